@@ -1,1 +1,34 @@
-//! placeholder
+//! Linearised relative motion of a deputy satellite about a reference ("chief") orbit.
+//!
+//! # Frame and state layout
+//!
+//! Every relative state in this module is expressed in the **Hill/RSW LVLH frame** of the reference
+//! orbit: `x` radially outward (along the reference position vector), `z` along the reference orbit
+//! normal (angular momentum `r × v`), `y = z × x` along-track (the direction of flight). Positions
+//! are in metres, velocities in metres per second *as seen in the rotating frame*, and a state is the
+//! 6-vector `[x, y, z, vx, vy, vz]` (`nalgebra::Vector6<f64>`). Control accelerations are Hill-frame
+//! 3-vectors in m/s². This is the frame {O} of the Takahashi–Sakai spec
+//! (`shared/specs/takahashi-sakai-j2-distance.md` §1.1), which states that {O} *is* the Hill/RSW
+//! convention, so no axis permutation or sign change is needed between the spec and this module.
+//!
+//! # Models
+//!
+//! | type | model | reference orbit |
+//! | --- | --- | --- |
+//! | [`Hcw`] | Hill–Clohessy–Wiltshire equations, closed-form state transition matrix and exact zero-order-hold input matrix | circular Keplerian, mean motion `n` |
+//! | [`SchweighartSedwick`] | J2-linearised relative motion of Schweighart & Sedwick (2002), spec §2.3 (Eq. 4) in physical coordinates, constants of spec §1.3, closed-form free motion of spec §2.4 (Eq. 5) | the SS artificial circular orbit, radius `r_ref`, inclination `i_ref` |
+//!
+//! Both models are linear and time-invariant, so each offers its continuous-time derivative (for
+//! numerical integration), a closed-form state transition matrix, an exact zero-order-hold input
+//! matrix and the along-track drift rate with the matching no-drift initial condition.
+//!
+//! The closed forms are written with the well-conditioned functions of the private `series` module,
+//! so they stay accurate for short steps and tiny mean motions (the HCW model tends to the double
+//! integrator as `n → 0`).
+
+mod hcw;
+mod schweighart_sedwick;
+mod series;
+
+pub use hcw::Hcw;
+pub use schweighart_sedwick::SchweighartSedwick;
