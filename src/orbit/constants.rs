@@ -19,15 +19,19 @@ pub struct EarthModel {
 }
 
 impl EarthModel {
-    /// EGM2008 constants (Pavlis et al., "The development and evaluation of the Earth Gravitational
-    /// Model 2008 (EGM2008)", J. Geophys. Res. 117, B04406, 2012; NGA file `EGM2008_to2190_TideFree`):
+    /// The project's default Earth constants. The name follows the project's API contract; the values
+    /// are the ones in common use with EGM2008-era software, and their sources are:
     ///
-    /// * `mu_m3_s2 = 3.986004418e14` m^3/s^2: the EGM2008 `GM`, identical to the IERS Conventions
-    ///   (2010) Table 1.1 and WGS 84 (NGA.STND.0036) value;
-    /// * `equatorial_radius_m = 6378137.0` m: the EGM2008 reference radius `a`, identical to the
-    ///   WGS 84 semi-major axis;
-    /// * `j2 = 1.08262668e-3`: `J2 = -sqrt(5) C̄20` with the EGM2008 tide-free fully normalised
-    ///   coefficient `C̄20 = -0.484165143790815e-3`, rounded to 9 significant figures.
+    /// * `mu_m3_s2 = 3.986004418e14` m^3/s^2: WGS 84 (NGA.STND.0036, 2014) and IERS Conventions (2010)
+    ///   Table 1.1 (TCG-compatible). The EGM2008 coefficient file itself carries
+    ///   `GM = 3.986004415e14` (TT-compatible), 7.5e-10 relative smaller;
+    /// * `equatorial_radius_m = 6378137.0` m: WGS 84 semi-major axis. The EGM2008 file's reference
+    ///   radius is `6378136.3` m, 1.1e-7 relative smaller;
+    /// * `j2 = 1.08262668e-3`: `J2 = -sqrt(5) C̄20` with the **EGM96** fully normalised coefficient
+    ///   `C̄20 = -0.484165371736e-3` (Lemoine et al., NASA/TP-1998-206861), i.e. 1.0826266836e-3
+    ///   rounded to 9 significant figures. The EGM2008 tide-free `C̄20 = -0.484165143790815e-3`
+    ///   (Pavlis et al., J. Geophys. Res. 117, B04406, 2012) gives `J2 = 1.0826261739e-3`,
+    ///   4.7e-7 relative smaller, far below anything a J2-only model resolves.
     pub const EGM2008: EarthModel = EarthModel {
         mu_m3_s2: 3.986004418e14,
         equatorial_radius_m: 6_378_137.0,
