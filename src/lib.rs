@@ -10,6 +10,7 @@
 //! | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
 //! | [`integrate`] | fixed-step RK4 and adaptive embedded Runge-Kutta 7(8) over state vectors of any length |
 //! | [`relative`] | Hill-Clohessy-Wiltshire and J2-linearised (Schweighart-Sedwick) relative motion |
+//! | [`swarm`] | swarm-wide machinery: the cell-list neighbour grid ([`swarm::neighbours`]) |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![forbid(unsafe_code)]
@@ -17,3 +18,4 @@
 pub mod integrate;
 pub mod orbit;
 pub mod relative;
+pub mod swarm;
