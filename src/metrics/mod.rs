@@ -1,0 +1,76 @@
+//! Cluster metrics: pure functions of a swarm's state snapshot.
+//!
+//! | module | holds |
+//! | --- | --- |
+//! | [`five_elements`] | the five-element cluster characterisation of Gao et al. 2022 (N, r_o/v_o, d_max, d_min, L), `shared/specs/gao-bifurcating-potential.md` §2 |
+//! | [`separation`] | minimum centre-to-centre separation and hard-body collision counts |
+//!
+//! Large swarms (N = 1e5) are handled exactly, without O(N²) loops in the common cases: nearest
+//! neighbours come from the cell-list grid [`crate::swarm::neighbours::NeighbourGrid`].
+
+use thiserror::Error;
+
+use crate::swarm::neighbours::NeighbourError;
+
+pub mod five_elements;
+pub mod separation;
+
+/// Why a metric could not be computed.
+#[derive(Clone, Debug, PartialEq, Error)]
+#[non_exhaustive]
+pub enum MetricsError {
+    /// The metric needs pairs of satellites.
+    #[error("at least 2 satellites are needed, got {n}")]
+    TooFewSatellites {
+        /// Number of satellites given.
+        n: usize,
+    },
+    /// An input slice does not have one entry per satellite.
+    #[error("{what} has {got} entries, expected {expected} (one per satellite)")]
+    LengthMismatch {
+        /// Which input (e.g. "velocities").
+        what: &'static str,
+        /// Number of satellites.
+        expected: usize,
+        /// Length given.
+        got: usize,
+    },
+    /// A position or velocity component is NaN or infinite.
+    #[error("{what} of satellite {index} is not finite")]
+    NonFinite {
+        /// Which input (e.g. "position").
+        what: &'static str,
+        /// Index of the offending satellite.
+        index: usize,
+    },
+    /// A physical radius is negative, NaN or infinite.
+    #[error("radius of satellite {index} must be finite and >= 0 m, got {radius_m} m")]
+    InvalidRadius {
+        /// Index of the offending satellite.
+        index: usize,
+        /// The rejected radius (m).
+        radius_m: f64,
+    },
+    /// The neighbour grid rejected its input.
+    #[error(transparent)]
+    Grid(#[from] NeighbourError),
+}
+
+/// Checks that `radii_m` has `n` finite, non-negative entries and returns the largest (m).
+pub(crate) fn check_radii(radii_m: &[f64], n: usize) -> Result<f64, MetricsError> {
+    if radii_m.len() != n {
+        return Err(MetricsError::LengthMismatch {
+            what: "radii",
+            expected: n,
+            got: radii_m.len(),
+        });
+    }
+    let mut a_max = 0.0_f64;
+    for (index, &radius_m) in radii_m.iter().enumerate() {
+        if !(radius_m.is_finite() && radius_m >= 0.0) {
+            return Err(MetricsError::InvalidRadius { index, radius_m });
+        }
+        a_max = a_max.max(radius_m);
+    }
+    Ok(a_max)
+}

@@ -1,0 +1,601 @@
+//! Cell-list neighbour grid: fixed-radius neighbour queries and exact nearest-neighbour queries over a
+//! swarm's positions, rebuilt every step in O(N).
+//!
+//! Design (measurements in `ENGINEERING-NOTES.md` §1.4):
+//!
+//! * Space is cut into cubic cells whose edge is the query radius (plus a relative margin of 1e-6 that
+//!   absorbs floating-point rounding in the cell assignment), so every neighbour within the radius lies in
+//!   the 3 × 3 × 3 block of cells around a satellite.
+//! * Satellites are counting-sorted by cell into one `items` array, and their coordinates are copied in
+//!   that order, so a query walks contiguous memory. All buffers are kept across rebuilds: once the grid
+//!   has seen its largest swarm, [`NeighbourGrid::build`] does not allocate, and queries never allocate.
+//! * **Dense layout** (a `cell_start` array over the whole bounding box) when the box holds at most
+//!   `8 N + 64` cells; otherwise a **sparse layout** (the occupied cells' keys, sorted, found by binary
+//!   search), so a thinly spread swarm costs O(N) memory instead of a huge grid. At most 2^20 cells per
+//!   axis are used; for an even thinner spread the cell edge grows beyond the radius, which keeps the
+//!   answers exact and only costs speed.
+//!
+//! Positions are in any Cartesian frame, in metres; the grid never mixes frames (it only takes
+//! differences). Queries take `&self`, and [`NeighbourGrid`] is `Sync`, so many rayon threads can query one
+//! grid at once.
+//!
+//! **Inclusion rule**, identical in every query: satellite `j` is within distance `r` of satellite `i`
+//! when `sqrt(dx² + dy² + dz²) <= r` with `dx = x[j] - x[i]` (and likewise `dy`, `dz`) evaluated in f64, so a
+//! brute-force loop written that way returns exactly the same sets.
+//!
+//! **Visit order** (deterministic: it depends only on the positions and radius given to the last build,
+//! never on thread count or on earlier builds): rows of cells in ascending (z, y) cell order, within a row
+//! the cells in ascending x, within a cell the satellites in ascending index. If a query's block of cells
+//! would be larger than the swarm (a reach far beyond the cell size), the query scans all satellites in
+//! storage order instead (storage order is the cell order above).
+
+use std::ops::Range;
+
+use thiserror::Error;
+
+/// Relative margin added to the cell edge: `cell = radius * (1 + CELL_MARGIN)`.
+///
+/// The computed cell coordinate `(x - x_min) / cell` carries a rounding error of at most about
+/// `3 ε · cells_per_axis ≈ 1.4e-9` cells (ε = 2.2e-16, at most 2^21 cells per axis), so two points closer
+/// than the radius can never land two cells apart once the cell is 1e-6 larger than the radius.
+const CELL_MARGIN: f64 = 1e-6;
+
+/// Distance (as a fraction of the cell edge) guaranteed per ring of cells: a satellite `k + 1` or more
+/// cells away (Chebyshev distance in cell coordinates) is at least `k · cell · GAP_FACTOR` away. The
+/// 1e-8 slack covers the ≤ 3e-9-cell rounding error of two cell coordinates (see [`CELL_MARGIN`]).
+const GAP_FACTOR: f64 = 1.0 - 1e-8;
+
+/// At most this many cells per axis; thinner spreads get cells larger than the radius.
+const MAX_CELLS_PER_AXIS: f64 = 1_048_576.0;
+
+/// The dense layout is used when the bounding box holds at most `DENSE_CELLS_PER_POINT · N + DENSE_EXTRA_CELLS` cells.
+const DENSE_CELLS_PER_POINT: u64 = 8;
+/// See [`DENSE_CELLS_PER_POINT`].
+const DENSE_EXTRA_CELLS: u64 = 64;
+
+/// Largest swarm a grid accepts (indices are stored as `u32`, dense cell counts stay below 2^32).
+pub const MAX_POINTS: usize = 1 << 28;
+
+/// Why a grid could not be built.
+#[derive(Clone, Debug, PartialEq, Error)]
+#[non_exhaustive]
+pub enum NeighbourError {
+    /// The query radius is zero, negative, infinite or NaN.
+    #[error("neighbour radius must be finite and > 0 m, got {radius_m} m")]
+    InvalidRadius {
+        /// The rejected radius (m).
+        radius_m: f64,
+    },
+    /// The x, y and z slices have different lengths.
+    #[error("position slices differ in length: x has {x}, y has {y}, z has {z} entries")]
+    LengthMismatch {
+        /// Length of the x slice.
+        x: usize,
+        /// Length of the y slice.
+        y: usize,
+        /// Length of the z slice.
+        z: usize,
+    },
+    /// A coordinate is NaN or infinite. The grid refuses the whole swarm rather than silently dropping a
+    /// satellite; filter lost satellites out before building.
+    #[error("position of satellite {index} is not finite: ({x_m}, {y_m}, {z_m}) m")]
+    NonFinitePosition {
+        /// Index of the offending satellite.
+        index: usize,
+        /// Its x coordinate (m).
+        x_m: f64,
+        /// Its y coordinate (m).
+        y_m: f64,
+        /// Its z coordinate (m).
+        z_m: f64,
+    },
+    /// More satellites than [`MAX_POINTS`].
+    #[error("{n} satellites exceed the neighbour grid's limit of {max}")]
+    TooManyPoints {
+        /// Number of satellites given.
+        n: usize,
+        /// The limit, [`MAX_POINTS`].
+        max: usize,
+    },
+}
+
+/// One neighbour `j` of a query satellite `i`, with the separation vector `p_j - p_i` in the frame of the
+/// positions given to [`NeighbourGrid::build`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Neighbour {
+    /// Index `j` of the neighbour in the slices given to [`NeighbourGrid::build`].
+    pub index: usize,
+    /// `x[j] - x[i]` (m).
+    pub dx_m: f64,
+    /// `y[j] - y[i]` (m).
+    pub dy_m: f64,
+    /// `z[j] - z[i]` (m).
+    pub dz_m: f64,
+    /// `sqrt(dx² + dy² + dz²)` (m).
+    pub distance_m: f64,
+}
+
+/// How the grid stores its cells (chosen by each build, see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GridLayout {
+    /// A `cell_start` entry for every cell of the bounding box.
+    #[default]
+    Dense,
+    /// Only occupied cells, as sorted keys found by binary search.
+    Sparse,
+}
+
+/// Cell-list index over a swarm's positions. See the module docs for layout, inclusion rule and visit
+/// order.
+#[derive(Clone, Debug, Default)]
+pub struct NeighbourGrid {
+    /// Query radius of [`Self::for_each_neighbour`] (m).
+    radius_m: f64,
+    /// Cell edge (m), `>= radius_m * (1 + CELL_MARGIN)`.
+    cell_m: f64,
+    /// `1 / cell_m` (1/m).
+    inv_cell: f64,
+    /// Lower corner of the bounding box (m).
+    origin_m: [f64; 3],
+    /// Cells per axis (each >= 1).
+    dims: [u64; 3],
+    layout: GridLayout,
+    /// Number of non-empty cells.
+    occupied: usize,
+    /// Coordinates in storage (cell) order (m).
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    zs: Vec<f64>,
+    /// Original satellite index of each storage slot.
+    items: Vec<u32>,
+    /// Storage slot of each satellite.
+    slot_of: Vec<u32>,
+    /// Dense: start slot of every cell (length cells + 1). Sparse: start slot of every occupied cell
+    /// (length occupied + 1).
+    cell_start: Vec<u32>,
+    /// Sparse only: key of every occupied cell, ascending.
+    cell_keys: Vec<u64>,
+    /// Build scratch (dense): cell of every satellite.
+    scratch_cell: Vec<u32>,
+    /// Build scratch (sparse): (cell key, satellite) pairs.
+    scratch_pairs: Vec<(u64, u32)>,
+}
+
+impl NeighbourGrid {
+    /// An empty grid (no satellites, radius 0). Call [`Self::build`] before querying.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Rebuilds the grid over the positions `(x_m[i], y_m[i], z_m[i])` (m, any Cartesian frame) with
+    /// query radius `radius_m` (m). Reuses all buffers: no allocation once the grid has seen a swarm this
+    /// large and this spread out.
+    ///
+    /// N = 0 and N = 1 are valid (every query then finds nothing), as are coincident satellites.
+    ///
+    /// # Errors
+    /// [`NeighbourError::InvalidRadius`] unless `radius_m` is finite and positive;
+    /// [`NeighbourError::LengthMismatch`], [`NeighbourError::TooManyPoints`];
+    /// [`NeighbourError::NonFinitePosition`] for the first satellite with a NaN or infinite coordinate.
+    /// After an error the grid is empty.
+    pub fn build(
+        &mut self,
+        x_m: &[f64],
+        y_m: &[f64],
+        z_m: &[f64],
+        radius_m: f64,
+    ) -> Result<(), NeighbourError> {
+        self.clear();
+        if !(radius_m.is_finite() && radius_m > 0.0) {
+            return Err(NeighbourError::InvalidRadius { radius_m });
+        }
+        let n = x_m.len();
+        if y_m.len() != n || z_m.len() != n {
+            return Err(NeighbourError::LengthMismatch {
+                x: n,
+                y: y_m.len(),
+                z: z_m.len(),
+            });
+        }
+        if n > MAX_POINTS {
+            return Err(NeighbourError::TooManyPoints { n, max: MAX_POINTS });
+        }
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for i in 0..n {
+            let p = [x_m[i], y_m[i], z_m[i]];
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(NeighbourError::NonFinitePosition {
+                    index: i,
+                    x_m: p[0],
+                    y_m: p[1],
+                    z_m: p[2],
+                });
+            }
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        if n == 0 {
+            lo = [0.0; 3];
+            hi = [0.0; 3];
+        }
+        let extent = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+        let extent_max = extent[0].max(extent[1]).max(extent[2]);
+        self.radius_m = radius_m;
+        self.cell_m = (radius_m * (1.0 + CELL_MARGIN)).max(extent_max / MAX_CELLS_PER_AXIS);
+        self.inv_cell = 1.0 / self.cell_m;
+        self.origin_m = lo;
+        // The largest coordinate maps to floor(extent / cell), computed exactly as in `cell_coord`, so
+        // every satellite's cell index is below `dims` (float casts saturate, so nothing can wrap).
+        self.dims = extent.map(|e| (e * self.inv_cell).floor() as u64 + 1);
+        let cells = self.dims[0]
+            .saturating_mul(self.dims[1])
+            .saturating_mul(self.dims[2]);
+        self.layout = if cells <= DENSE_CELLS_PER_POINT * n as u64 + DENSE_EXTRA_CELLS {
+            GridLayout::Dense
+        } else {
+            GridLayout::Sparse
+        };
+
+        self.items.resize(n, 0);
+        match self.layout {
+            GridLayout::Dense => self.sort_dense(x_m, y_m, z_m, cells as usize),
+            GridLayout::Sparse => self.sort_sparse(x_m, y_m, z_m),
+        }
+        self.xs.resize(n, 0.0);
+        self.ys.resize(n, 0.0);
+        self.zs.resize(n, 0.0);
+        self.slot_of.resize(n, 0);
+        for (slot, &i) in self.items.iter().enumerate() {
+            let i = i as usize;
+            self.xs[slot] = x_m[i];
+            self.ys[slot] = y_m[i];
+            self.zs[slot] = z_m[i];
+            self.slot_of[i] = slot as u32;
+        }
+        Ok(())
+    }
+
+    /// Counting sort by dense cell index; stable, so each cell lists its satellites in ascending index.
+    fn sort_dense(&mut self, x_m: &[f64], y_m: &[f64], z_m: &[f64], cells: usize) {
+        self.cell_start.clear();
+        self.cell_start.resize(cells + 1, 0);
+        self.scratch_cell.clear();
+        for i in 0..x_m.len() {
+            let c = self.key(self.cell_of([x_m[i], y_m[i], z_m[i]])) as usize;
+            self.scratch_cell.push(c as u32);
+            self.cell_start[c + 1] += 1;
+        }
+        self.occupied = self.cell_start[1..].iter().filter(|&&k| k > 0).count();
+        for k in 1..=cells {
+            self.cell_start[k] += self.cell_start[k - 1];
+        }
+        // `cell_start[c]` is now the start of cell c; use it as the write cursor, then shift back.
+        for (i, &c) in self.scratch_cell.iter().enumerate() {
+            let c = c as usize;
+            self.items[self.cell_start[c] as usize] = i as u32;
+            self.cell_start[c] += 1;
+        }
+        for k in (1..=cells).rev() {
+            self.cell_start[k] = self.cell_start[k - 1];
+        }
+        self.cell_start[0] = 0;
+    }
+
+    /// Sort of (cell key, index) pairs; keys are unique per (cell, satellite), so the order is fixed.
+    fn sort_sparse(&mut self, x_m: &[f64], y_m: &[f64], z_m: &[f64]) {
+        self.scratch_pairs.clear();
+        for i in 0..x_m.len() {
+            let key = self.key(self.cell_of([x_m[i], y_m[i], z_m[i]]));
+            self.scratch_pairs.push((key, i as u32));
+        }
+        self.scratch_pairs.sort_unstable();
+        self.cell_keys.clear();
+        self.cell_start.clear();
+        for (slot, &(key, i)) in self.scratch_pairs.iter().enumerate() {
+            if self.cell_keys.last() != Some(&key) {
+                self.cell_keys.push(key);
+                self.cell_start.push(slot as u32);
+            }
+            self.items[slot] = i;
+        }
+        self.cell_start.push(x_m.len() as u32);
+        self.occupied = self.cell_keys.len();
+    }
+
+    /// Empties the grid, keeping its buffers.
+    fn clear(&mut self) {
+        self.radius_m = 0.0;
+        self.dims = [1; 3];
+        self.layout = GridLayout::Dense;
+        self.occupied = 0;
+        self.xs.clear();
+        self.ys.clear();
+        self.zs.clear();
+        self.items.clear();
+        self.slot_of.clear();
+        self.cell_start.clear();
+        self.cell_start.push(0);
+        self.cell_start.push(0);
+        self.cell_keys.clear();
+    }
+
+    /// Query radius of the last successful build (m); 0 for an empty or failed grid.
+    pub fn radius_m(&self) -> f64 {
+        self.radius_m
+    }
+
+    /// Cell edge used by the last build (m): the radius times (1 + 1e-6), or more for swarms spread over
+    /// more than 2^20 radii.
+    pub fn cell_size_m(&self) -> f64 {
+        self.cell_m
+    }
+
+    /// Number of satellites in the grid.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// `true` when the grid holds no satellite.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// Storage layout chosen by the last build.
+    pub fn layout(&self) -> GridLayout {
+        self.layout
+    }
+
+    /// Number of non-empty cells (a measure of how well the cell size fits the spacing).
+    pub fn occupied_cells(&self) -> usize {
+        self.occupied
+    }
+
+    /// Position of satellite `i` as given to the last build (m, the caller's frame).
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    pub fn position_m(&self, i: usize) -> [f64; 3] {
+        let s = self.slot_of[i] as usize;
+        [self.xs[s], self.ys[s], self.zs[s]]
+    }
+
+    /// Calls `visit` once for every satellite `j != i` with `|p_j - p_i| <= radius_m()` (see the module
+    /// docs for the inclusion rule and the deterministic visit order). Never allocates.
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    pub fn for_each_neighbour(&self, i: usize, visit: impl FnMut(Neighbour)) {
+        self.for_each_within(i, self.radius_m, visit);
+    }
+
+    /// Like [`Self::for_each_neighbour`] but with any reach `reach_m` (m), smaller or larger than the grid
+    /// radius. A reach of a few cells walks the `(2k + 1)³` cells around `i`; a reach whose block of cells
+    /// exceeds the swarm size scans all satellites. A negative or NaN reach visits nothing. Never
+    /// allocates.
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    pub fn for_each_within(&self, i: usize, reach_m: f64, mut visit: impl FnMut(Neighbour)) {
+        if reach_m.is_nan() || reach_m < 0.0 {
+            return;
+        }
+        let si = self.slot_of[i] as usize;
+        let p = [self.xs[si], self.ys[si], self.zs[si]];
+        let c = self.cell_of(p);
+        // Satellites k + 1 or more cells away are farther than k · gap (> reach once k = K).
+        let gap = self.cell_m * GAP_FACTOR;
+        let k = ((reach_m / gap).floor() + 1.0).min(self.max_dim() as f64) as u64;
+        // Prefilter on squared distance, with a relative margin so it never rejects a point that passes
+        // the exact `sqrt(d2) <= reach` test.
+        let reach2 = reach_m * reach_m * (1.0 + 1e-10);
+        let mut test = |s: usize| {
+            if s == si {
+                return;
+            }
+            let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
+            let d2 = dx * dx + dy * dy + dz * dz;
+            if d2 <= reach2 {
+                let d = d2.sqrt();
+                if d <= reach_m {
+                    visit(Neighbour {
+                        index: self.items[s] as usize,
+                        dx_m: dx,
+                        dy_m: dy,
+                        dz_m: dz,
+                        distance_m: d,
+                    });
+                }
+            }
+        };
+        if self.block_cells(c, k) > self.brute_force_threshold() {
+            (0..self.len()).for_each(test);
+        } else {
+            self.visit_block(c, k, &mut test);
+        }
+    }
+
+    /// The nearest other satellite to satellite `i`, at any distance (the search widens ring by ring of
+    /// cells beyond the grid radius, and falls back to a scan of all satellites when the rings grow larger
+    /// than the swarm). Ties in distance go to the smaller index. `None` when the grid holds fewer than
+    /// two satellites. Never allocates.
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    pub fn nearest_neighbour(&self, i: usize) -> Option<Neighbour> {
+        if self.len() < 2 {
+            return None;
+        }
+        let si = self.slot_of[i] as usize;
+        let p = [self.xs[si], self.ys[si], self.zs[si]];
+        let c = self.cell_of(p);
+        let mut best: Option<Neighbour> = None;
+        let consider = |s: usize, best: &mut Option<Neighbour>| {
+            if s == si {
+                return;
+            }
+            let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            let j = self.items[s] as usize;
+            let better = match *best {
+                None => true,
+                Some(b) => d < b.distance_m || (d == b.distance_m && j < b.index),
+            };
+            if better {
+                *best = Some(Neighbour {
+                    index: j,
+                    dx_m: dx,
+                    dy_m: dy,
+                    dz_m: dz,
+                    distance_m: d,
+                });
+            }
+        };
+        let gap = self.cell_m * GAP_FACTOR;
+        let max_k = self.max_dim();
+        for k in 0..=max_k {
+            if self.block_cells(c, k) > self.brute_force_threshold() {
+                (0..self.len()).for_each(|s| consider(s, &mut best));
+                return best;
+            }
+            self.visit_ring(c, k, &mut |s| consider(s, &mut best));
+            // Everything not yet visited is more than k · gap away.
+            if best.is_some_and(|b| b.distance_m <= k as f64 * gap) {
+                return best;
+            }
+        }
+        best
+    }
+
+    /// Cell coordinates of a position (clamped into the grid).
+    fn cell_of(&self, p: [f64; 3]) -> [u64; 3] {
+        let mut c = [0; 3];
+        for a in 0..3 {
+            let u = ((p[a] - self.origin_m[a]) * self.inv_cell).floor();
+            // Float-to-int casts saturate (negative -> 0); the clamp guards the top edge.
+            c[a] = (u as u64).min(self.dims[a] - 1);
+        }
+        c
+    }
+
+    /// Linear cell key, ascending in (z, y, x) lexicographic order.
+    fn key(&self, c: [u64; 3]) -> u64 {
+        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+    }
+
+    fn max_dim(&self) -> u64 {
+        self.dims[0].max(self.dims[1]).max(self.dims[2])
+    }
+
+    /// Above this many cells in a query block, a scan of all satellites is cheaper.
+    fn brute_force_threshold(&self) -> u64 {
+        4 * self.len() as u64 + 64
+    }
+
+    /// Inclusive cell range `[c - k, c + k]` clamped to the grid along axis `a`.
+    fn span(&self, c: [u64; 3], k: u64, a: usize) -> (u64, u64) {
+        (
+            c[a].saturating_sub(k),
+            c[a].saturating_add(k).min(self.dims[a] - 1),
+        )
+    }
+
+    /// Number of grid cells in the clamped block of half-width `k` around cell `c`.
+    fn block_cells(&self, c: [u64; 3], k: u64) -> u64 {
+        (0..3)
+            .map(|a| {
+                let (lo, hi) = self.span(c, k, a);
+                hi - lo + 1
+            })
+            .product()
+    }
+
+    /// Storage slots of the cells `(x_lo..=x_hi, y, z)`: one contiguous range in both layouts.
+    fn row(&self, y: u64, z: u64, x_lo: u64, x_hi: u64) -> Range<usize> {
+        let k0 = self.key([x_lo, y, z]);
+        let k1 = k0 + (x_hi - x_lo) + 1;
+        match self.layout {
+            GridLayout::Dense => {
+                self.cell_start[k0 as usize] as usize..self.cell_start[k1 as usize] as usize
+            }
+            GridLayout::Sparse => {
+                let a = self.cell_keys.partition_point(|&key| key < k0);
+                let b = a + self.cell_keys[a..].partition_point(|&key| key < k1);
+                self.cell_start[a] as usize..self.cell_start[b] as usize
+            }
+        }
+    }
+
+    /// Visits every slot in the clamped block of half-width `k` around cell `c`, in visit order.
+    fn visit_block(&self, c: [u64; 3], k: u64, f: &mut impl FnMut(usize)) {
+        let (x_lo, x_hi) = self.span(c, k, 0);
+        let (y_lo, y_hi) = self.span(c, k, 1);
+        let (z_lo, z_hi) = self.span(c, k, 2);
+        for z in z_lo..=z_hi {
+            for y in y_lo..=y_hi {
+                self.row(y, z, x_lo, x_hi).for_each(&mut *f);
+            }
+        }
+    }
+
+    /// Visits every slot in the cells at Chebyshev distance exactly `k` from cell `c` (clamped).
+    fn visit_ring(&self, c: [u64; 3], k: u64, f: &mut impl FnMut(usize)) {
+        let (x_lo, x_hi) = self.span(c, k, 0);
+        let (y_lo, y_hi) = self.span(c, k, 1);
+        let (z_lo, z_hi) = self.span(c, k, 2);
+        for z in z_lo..=z_hi {
+            for y in y_lo..=y_hi {
+                if z.abs_diff(c[2]) == k || y.abs_diff(c[1]) == k {
+                    self.row(y, z, x_lo, x_hi).for_each(&mut *f);
+                } else {
+                    if c[0] >= k {
+                        self.row(y, z, c[0] - k, c[0] - k).for_each(&mut *f);
+                    }
+                    if k > 0 && c[0] + k < self.dims[0] {
+                        self.row(y, z, c[0] + k, c[0] + k).for_each(&mut *f);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_is_sync_and_send() {
+        fn check<T: Sync + Send>() {}
+        check::<NeighbourGrid>();
+    }
+
+    #[test]
+    fn thin_spread_uses_sparse_layout_and_tight_swarm_dense() {
+        let mut g = NeighbourGrid::new();
+        // 1000 satellites over 200 km with a 10 m radius: 2e4 cells per axis, far more than 8 N.
+        let x: Vec<f64> = (0..1000).map(|i| i as f64 * 200.0).collect();
+        let y: Vec<f64> = (0..1000)
+            .map(|i| ((i * 7919) % 1000) as f64 * 200.0)
+            .collect();
+        let z = vec![0.0; 1000];
+        g.build(&x, &y, &z, 10.0).unwrap();
+        assert_eq!(g.layout(), GridLayout::Sparse);
+        g.build(&x, &y, &z, 5e4).unwrap();
+        assert_eq!(g.layout(), GridLayout::Dense);
+    }
+
+    #[test]
+    fn extreme_spread_caps_cells_per_axis() {
+        let mut g = NeighbourGrid::new();
+        // 1e-3 m radius over 1e9 m: 1e12 cells per axis uncapped.
+        g.build(&[0.0, 1e9, 1e9 + 5e-4], &[0.0; 3], &[0.0; 3], 1e-3)
+            .unwrap();
+        assert!(g.cell_size_m() >= 1e9 / MAX_CELLS_PER_AXIS);
+        let mut found = Vec::new();
+        g.for_each_neighbour(1, |nb| found.push(nb.index));
+        assert_eq!(found, vec![2]);
+    }
+}
