@@ -8,16 +8,26 @@
 //! | module | holds |
 //! | --- | --- |
 //! | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
-//! | [`integrate`] | fixed-step RK4 and adaptive embedded Runge-Kutta 7(8) over state vectors of any length |
+//! | [`integrate`] | fixed-step RK4, adaptive RKF7(8) and DOP853 over state vectors of any length |
 //! | [`relative`] | Hill-Clohessy-Wiltshire and J2-linearised (Schweighart-Sedwick) relative motion |
-//! | [`swarm`] | swarm-wide machinery: the cell-list neighbour grid ([`swarm::neighbours`]) |
+//! | [`swarm`] | the engine: SoA state, neighbour grid, dynamics, actuators, events, law interface, loop |
+//! | [`guidance`] | the guidance laws and their registry |
 //! | [`metrics`] | five-element cluster characterisation (N, r_o/v_o, d_max, d_min, L), separation and collision counts |
+//! | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
+//! | [`output`] | streamed CSV recorder and the JSON run summary |
+//! | [`propagate`] | propagation of single orbits with outputs at exact times (`satflock propagate`) |
+//! | [`run`] | a scenario end to end: validate, simulate, write the outputs (`satflock run`) |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![forbid(unsafe_code)]
 
+pub mod guidance;
 pub mod integrate;
 pub mod metrics;
 pub mod orbit;
+pub mod output;
+pub mod propagate;
 pub mod relative;
+pub mod run;
+pub mod scenario;
 pub mod swarm;

@@ -12,8 +12,8 @@ use satflock::orbit::{
     LvlhFrame, Matrix3, OrbitError, RelativeStateGao, RelativeStateHill, Vector3,
 };
 
-const EARTH: EarthModel = EarthModel::EGM2008;
-const MU: f64 = EarthModel::EGM2008.mu_m3_s2;
+const EARTH: EarthModel = EarthModel::WGS84_EGM96;
+const MU: f64 = EarthModel::WGS84_EGM96.mu_m3_s2;
 const DEG: f64 = PI / 180.0;
 
 /// Signed difference of two angles reduced to (-pi, pi].

@@ -19,8 +19,8 @@ pub struct EarthModel {
 }
 
 impl EarthModel {
-    /// The project's default Earth constants. The name follows the project's API contract; the values
-    /// are the ones in common use with EGM2008-era software, and their sources are:
+    /// The project's default Earth constants: WGS 84 mu and radius with the EGM96 J2, the set most
+    /// astrodynamics software uses. Sources:
     ///
     /// * `mu_m3_s2 = 3.986004418e14` m^3/s^2: WGS 84 (NGA.STND.0036, 2014) and IERS Conventions (2010)
     ///   Table 1.1 (TCG-compatible). The EGM2008 coefficient file itself carries
@@ -32,7 +32,7 @@ impl EarthModel {
     ///   rounded to 9 significant figures. The EGM2008 tide-free `C̄20 = -0.484165143790815e-3`
     ///   (Pavlis et al., J. Geophys. Res. 117, B04406, 2012) gives `J2 = 1.0826261739e-3`,
     ///   4.7e-7 relative smaller, far below anything a J2-only model resolves.
-    pub const EGM2008: EarthModel = EarthModel {
+    pub const WGS84_EGM96: EarthModel = EarthModel {
         mu_m3_s2: 3.986004418e14,
         equatorial_radius_m: 6_378_137.0,
         j2: 1.082_626_68e-3,
@@ -52,8 +52,8 @@ impl EarthModel {
 }
 
 impl Default for EarthModel {
-    /// [`EarthModel::EGM2008`].
+    /// [`EarthModel::WGS84_EGM96`].
     fn default() -> Self {
-        EarthModel::EGM2008
+        EarthModel::WGS84_EGM96
     }
 }

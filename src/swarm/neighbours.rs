@@ -20,7 +20,7 @@
 //! grid at once.
 //!
 //! **Inclusion rule**, identical in every query: satellite `j` is within distance `r` of satellite `i`
-//! when `sqrt(dx² + dy² + dz²) <= r` with `dx = x[j] - x[i]` (and likewise `dy`, `dz`) evaluated in f64, so a
+//! when `sqrt(dx² + dy² + dz²) <= r` with `dx = x\[j\] - x\[i\]` (and likewise `dy`, `dz`) evaluated in f64, so a
 //! brute-force loop written that way returns exactly the same sets.
 //!
 //! **Visit order** (deterministic: it depends only on the positions and radius given to the last build,
@@ -105,11 +105,11 @@ pub enum NeighbourError {
 pub struct Neighbour {
     /// Index `j` of the neighbour in the slices given to [`NeighbourGrid::build`].
     pub index: usize,
-    /// `x[j] - x[i]` (m).
+    /// `x\[j\] - x\[i\]` (m).
     pub dx_m: f64,
-    /// `y[j] - y[i]` (m).
+    /// `y\[j\] - y\[i\]` (m).
     pub dy_m: f64,
-    /// `z[j] - z[i]` (m).
+    /// `z\[j\] - z\[i\]` (m).
     pub dz_m: f64,
     /// `sqrt(dx² + dy² + dz²)` (m).
     pub distance_m: f64,
@@ -167,7 +167,7 @@ impl NeighbourGrid {
         Self::default()
     }
 
-    /// Rebuilds the grid over the positions `(x_m[i], y_m[i], z_m[i])` (m, any Cartesian frame) with
+    /// Rebuilds the grid over the positions `(x_m\[i\], y_m\[i\], z_m\[i\])` (m, any Cartesian frame) with
     /// query radius `radius_m` (m). Reuses all buffers: no allocation once the grid has seen a swarm this
     /// large and this spread out.
     ///

@@ -1,0 +1,71 @@
+//! Benchmark: point-mass + J2 propagation of N independent satellites with RK4 at dt = 1 s, the whole
+//! swarm stepped as one state vector (N = 1, 1 000, 100 000). Throughput is reported in
+//! satellite-steps per second (criterion's "elements").
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+use satflock::integrate::Rk4;
+use satflock::orbit::{EarthModel, GravityModel, KeplerianElements};
+
+fn swarm_state(n: usize) -> Vec<f64> {
+    let mu = EarthModel::WGS84_EGM96.mu_m3_s2;
+    (0..n)
+        .flat_map(|i| {
+            let s = KeplerianElements {
+                semi_major_axis_m: 6_978_137.0 + (i % 100) as f64,
+                eccentricity: 0.001,
+                inclination_rad: 1.7,
+                raan_rad: 0.0,
+                arg_perigee_rad: 0.0,
+                true_anomaly_rad: 1e-6 * i as f64,
+            }
+            .to_cartesian(mu)
+            .unwrap();
+            [
+                s.position_m.x,
+                s.position_m.y,
+                s.position_m.z,
+                s.velocity_mps.x,
+                s.velocity_mps.y,
+                s.velocity_mps.z,
+            ]
+        })
+        .collect()
+}
+
+fn j2_rhs(_t: f64, y: &[f64], dy: &mut [f64]) {
+    let earth = EarthModel::WGS84_EGM96;
+    dy.par_chunks_mut(6 * 256)
+        .zip(y.par_chunks(6 * 256))
+        .for_each(|(d, s)| {
+            for (d, s) in d.chunks_exact_mut(6).zip(s.chunks_exact(6)) {
+                let a = GravityModel::J2.acceleration_m_s2(&earth, &Vector3::new(s[0], s[1], s[2]));
+                d[0..3].copy_from_slice(&s[3..6]);
+                d[3..6].copy_from_slice(a.as_slice());
+            }
+        });
+}
+
+fn propagation(c: &mut Criterion) {
+    let mut group = c.benchmark_group("j2_rk4_1s");
+    for n in [1usize, 1_000, 100_000] {
+        let mut y = swarm_state(n);
+        let mut rk4 = Rk4::new(y.len());
+        group.throughput(Throughput::Elements(n as u64));
+        if n >= 100_000 {
+            group.sample_size(10);
+        }
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            let mut t = 0.0;
+            b.iter(|| {
+                rk4.step(&j2_rhs, t, &mut y, 1.0);
+                t += 1.0;
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, propagation);
+criterion_main!(benches);

@@ -1,0 +1,141 @@
+//! The `hold` law: a proportional-derivative hold of each satellite's slot, with optional cancellation of
+//! the Hill–Clohessy–Wiltshire natural acceleration.
+//!
+//! Slot = the satellite's relative position (Hill frame, relative to the LVLH origin) when the law starts
+//! (run start, or the event that switches it in), shifted by the current `slot_offset_hill_m` (so an
+//! event that changes the offset moves every slot). Command:
+//!
+//! u = −k_p (r − r_slot) − k_d v − a_nat,HCW(r, v)   (the last term only with `feedforward = "hcw"`)
+//!
+//! where a_nat,HCW = (3n²x + 2n ẏ, −2n ẋ, −n²z) is the HCW natural acceleration. With the feed-forward
+//! on HCW dynamics the closed loop is exactly r̈ + k_d ṙ + k_p (r − r_slot) = 0 on each axis.
+//! This law exists to test the engine; it needs no neighbours.
+
+use std::sync::Arc;
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::guidance::parameters::merge_parameters;
+use crate::relative::Hcw;
+use crate::swarm::{GuidanceLaw, LawError, SatelliteView, SwarmView};
+
+/// Natural-acceleration feed-forward of the `hold` law.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Feedforward {
+    /// No feed-forward.
+    #[default]
+    None,
+    /// Cancel the HCW natural acceleration of the reference's mean motion.
+    Hcw,
+}
+
+/// Parameters of the `hold` law.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HoldParameters {
+    /// Proportional gain k_p \[1/s^2\] (acceleration per metre of slot error); > 0.
+    pub stiffness_per_s2: f64,
+    /// Derivative gain k_d \[1/s\] (acceleration per m/s of relative velocity); >= 0.
+    pub damping_per_s: f64,
+    /// Feed-forward of the natural relative acceleration (default: none).
+    #[serde(default)]
+    pub feedforward: Feedforward,
+    /// Offset added to every slot, Hill frame \[m\] (default: zero).
+    #[serde(default)]
+    pub slot_offset_hill_m: [f64; 3],
+}
+
+/// The `hold` law.
+#[derive(Clone, Debug)]
+pub struct Hold {
+    parameters: HoldParameters,
+    /// Relative positions when the law started, Hill frame \[m\].
+    start_positions_hill_m: Arc<Vec<Vector3<f64>>>,
+}
+
+impl Hold {
+    /// Builds the law, checking the gains.
+    pub fn new(parameters: HoldParameters) -> Result<Self, LawError> {
+        check(&parameters)?;
+        Ok(Self {
+            parameters,
+            start_positions_hill_m: Arc::new(Vec::new()),
+        })
+    }
+
+    /// Slot of satellite `id`, Hill frame \[m\]. Panics before the law has started.
+    pub fn slot_hill_m(&self, id: usize) -> Vector3<f64> {
+        self.start_positions_hill_m[id] + Vector3::from(self.parameters.slot_offset_hill_m)
+    }
+}
+
+fn check(p: &HoldParameters) -> Result<(), LawError> {
+    let invalid = |message: String| LawError::InvalidParameters {
+        law: "hold".into(),
+        message,
+    };
+    if !(p.stiffness_per_s2 > 0.0 && p.stiffness_per_s2.is_finite()) {
+        return Err(invalid(format!(
+            "stiffness_per_s2 = {} is out of range (allowed: finite, > 0)",
+            p.stiffness_per_s2
+        )));
+    }
+    if !(p.damping_per_s >= 0.0 && p.damping_per_s.is_finite()) {
+        return Err(invalid(format!(
+            "damping_per_s = {} is out of range (allowed: finite, >= 0)",
+            p.damping_per_s
+        )));
+    }
+    if p.slot_offset_hill_m.iter().any(|v| !v.is_finite()) {
+        return Err(invalid("slot_offset_hill_m must be finite".into()));
+    }
+    Ok(())
+}
+
+impl GuidanceLaw for Hold {
+    fn name(&self) -> &'static str {
+        "hold"
+    }
+
+    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
+        self.start_positions_hill_m =
+            Arc::new(swarm.relative_states.iter().map(|s| s.position_m).collect());
+        Ok(())
+    }
+
+    fn command_m_s2(&self, satellite: &SatelliteView<'_>) -> Vector3<f64> {
+        let p = &self.parameters;
+        let own = satellite.own_state();
+        let slot = self.slot_hill_m(satellite.id());
+        let mut u =
+            -p.stiffness_per_s2 * (own.position_m - slot) - p.damping_per_s * own.velocity_mps;
+        if p.feedforward == Feedforward::Hcw {
+            let hcw = Hcw::new(satellite.shared().mean_motion_rad_s);
+            u -= hcw.natural_acceleration_m_s2(&own.position_m, &own.velocity_mps);
+        }
+        u
+    }
+
+    fn set_parameters(&mut self, parameters: &toml::Table) -> Result<(), LawError> {
+        let merged = merge_parameters(self.name(), &self.parameters, parameters)?;
+        check(&merged)?;
+        self.parameters = merged;
+        Ok(())
+    }
+
+    /// Largest |root| of s² + k_d s + k_p = 0.
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        let (kp, kd) = (
+            self.parameters.stiffness_per_s2,
+            self.parameters.damping_per_s,
+        );
+        let disc = kd * kd - 4.0 * kp;
+        Some(if disc > 0.0 {
+            0.5 * (kd + disc.sqrt())
+        } else {
+            kp.sqrt()
+        })
+    }
+}

@@ -1,0 +1,441 @@
+//! The scenario file format: serde structures mirroring the TOML tables. Every dimensional key names its
+//! unit. Unknown keys are refused. Range checks live in the private `validate` module.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use crate::guidance::LawConfig;
+use crate::integrate::IntegratorMethod;
+use crate::swarm::LimitKind;
+
+/// A whole scenario file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioFile {
+    /// Short name (used in outputs).
+    pub name: String,
+    /// What the scenario is, and which values come from a paper and which are defaults.
+    #[serde(default)]
+    pub description: String,
+    /// Seed of every random draw.
+    pub seed: u64,
+    /// Length of the run \[s\].
+    pub duration_s: f64,
+    /// Recording cadence \[s\].
+    pub record_interval_s: f64,
+    /// Truth dynamics and integration.
+    #[serde(default)]
+    pub dynamics: DynamicsSection,
+    /// Earth constants (defaults: WGS 84 / EGM96 values of [`crate::orbit::EarthModel::WGS84_EGM96`]).
+    #[serde(default)]
+    pub earth: EarthSection,
+    /// Reference orbit and LVLH origin.
+    pub reference: ReferenceSection,
+    /// Control timing.
+    #[serde(default)]
+    pub control: ControlSection,
+    /// The satellites.
+    pub satellites: SatellitesSection,
+    /// The guidance law (`name` selects it; other keys are its parameters).
+    pub law: LawConfig,
+    /// Sensors and links.
+    #[serde(default)]
+    pub sensing: SensingSection,
+    /// The event timeline.
+    #[serde(default)]
+    pub events: Vec<EventSection>,
+    /// What to write.
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+/// Truth model names of the `[dynamics] model` key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ModelName {
+    /// Inertial point mass + J2 (default).
+    #[default]
+    J2,
+    /// Inertial point mass.
+    TwoBody,
+    /// Hill–Clohessy–Wiltshire linear relative dynamics.
+    Hcw,
+    /// Schweighart–Sedwick J2-linearised relative dynamics.
+    J2Linear,
+}
+
+/// `[dynamics]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsSection {
+    /// Truth model (default `j2`).
+    #[serde(default)]
+    pub model: ModelName,
+    /// Integrator (default `rk4`).
+    #[serde(default = "default_integrator")]
+    pub integrator: IntegratorMethod,
+    /// RK4 step, or longest step of the adaptive method \[s\] (default 1).
+    #[serde(default = "default_step")]
+    pub step_s: f64,
+    /// Relative tolerance of the adaptive method (default 1e-10).
+    #[serde(default = "default_rtol")]
+    pub rtol: f64,
+    /// Absolute tolerance of the adaptive method (default 1e-6, in m and m/s).
+    #[serde(default = "default_atol")]
+    pub atol: f64,
+    /// A satellite farther than this from the LVLH origin stops the run \[m\] (default 1e6).
+    #[serde(default = "default_max_distance")]
+    pub max_distance_m: f64,
+}
+
+fn default_integrator() -> IntegratorMethod {
+    IntegratorMethod::Rk4
+}
+fn default_step() -> f64 {
+    1.0
+}
+fn default_rtol() -> f64 {
+    1e-10
+}
+fn default_atol() -> f64 {
+    1e-6
+}
+fn default_max_distance() -> f64 {
+    1e6
+}
+
+impl Default for DynamicsSection {
+    fn default() -> Self {
+        Self {
+            model: ModelName::default(),
+            integrator: default_integrator(),
+            step_s: default_step(),
+            rtol: default_rtol(),
+            atol: default_atol(),
+            max_distance_m: default_max_distance(),
+        }
+    }
+}
+
+/// `[earth]`: optional overrides of the Earth constants.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EarthSection {
+    /// Gravitational parameter \[m^3/s^2\].
+    pub mu_m3_s2: Option<f64>,
+    /// Equatorial radius \[m\].
+    pub equatorial_radius_m: Option<f64>,
+    /// Second zonal harmonic (unnormalised), dimensionless.
+    pub j2: Option<f64>,
+}
+
+/// `[reference]`: the reference orbit at t = 0, by classical elements or by an ECI state, and the LVLH
+/// origin.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceSection {
+    /// Semi-major axis \[m\] (give this or `altitude_m`).
+    pub semi_major_axis_m: Option<f64>,
+    /// Altitude of the semi-major axis above the equatorial radius \[m\] (a = R + altitude).
+    pub altitude_m: Option<f64>,
+    /// Eccentricity (default 0).
+    pub eccentricity: Option<f64>,
+    /// Inclination \[deg\].
+    pub inclination_deg: Option<f64>,
+    /// Right ascension of the ascending node \[deg\] (default 0).
+    pub raan_deg: Option<f64>,
+    /// Argument of perigee \[deg\] (default 0).
+    pub arg_perigee_deg: Option<f64>,
+    /// True anomaly \[deg\] (default 0).
+    pub true_anomaly_deg: Option<f64>,
+    /// ECI position \[m\] (instead of elements; then `velocity_eci_mps` too).
+    pub position_eci_m: Option<[f64; 3]>,
+    /// ECI velocity \[m/s\].
+    pub velocity_eci_mps: Option<[f64; 3]>,
+    /// LVLH origin: `virtual` (default) or `member`.
+    #[serde(default)]
+    pub origin: OriginName,
+    /// Index of the member satellite that is the origin (with `origin = "member"`).
+    pub origin_member: Option<usize>,
+}
+
+/// LVLH origin names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum OriginName {
+    /// The virtual reference orbit.
+    #[default]
+    Virtual,
+    /// A member satellite.
+    Member,
+}
+
+/// Control timing names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ControlMode {
+    /// Law inside the integrator's right-hand side (default).
+    #[default]
+    Continuous,
+    /// Law every `period_s`, zero-order hold.
+    Sampled,
+}
+
+/// `[control]`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControlSection {
+    /// `continuous` (default) or `sampled`.
+    #[serde(default)]
+    pub mode: ControlMode,
+    /// Control period \[s\] (sampled mode only; required there).
+    pub period_s: Option<f64>,
+}
+
+/// `[satellites]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SatellitesSection {
+    /// Number of satellites (for `list` and `csv` initial states, must match the rows).
+    pub count: usize,
+    /// Mass of each satellite \[kg\].
+    pub mass_kg: f64,
+    /// Physical radius of each satellite \[m\] (collisions, d_min; default 0).
+    #[serde(default)]
+    pub radius_m: f64,
+    /// Actuator acceleration limit \[m/s^2\] (absent: unlimited).
+    pub max_accel_mps2: Option<f64>,
+    /// How the limit applies: `norm` (default) or `per-axis`.
+    #[serde(default)]
+    pub accel_limit: LimitKind,
+    /// Initial relative states.
+    pub initial: InitialSection,
+    /// Per-satellite overrides (heterogeneous clusters).
+    #[serde(default)]
+    pub overrides: Vec<OverrideSection>,
+}
+
+/// Frames an explicit list of initial states can be written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum ListFrame {
+    /// Hill/RSW: x radial out, y along-track, z orbit normal (default).
+    #[default]
+    Hill,
+    /// Gao o-xyz: x along-track, y minus orbit normal, z toward Earth's centre.
+    Gao,
+}
+
+/// Initial relative velocity of randomly placed satellites.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum InitialVelocity {
+    /// Zero velocity relative to the rotating LVLH frame (default).
+    #[default]
+    Zero,
+    /// The HCW no-drift condition v_y = −2 n x (bounded relative orbits on HCW dynamics).
+    HcwNoDrift,
+}
+
+/// `[satellites.initial]`: the initial relative states, Hill frame relative to the reference orbit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "distribution", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum InitialSection {
+    /// Uniform in a ball.
+    Sphere {
+        /// Radius of the ball \[m\].
+        radius_m: f64,
+        /// Centre of the ball, Hill frame \[m\] (default origin).
+        #[serde(default)]
+        center_hill_m: [f64; 3],
+        /// Initial velocity (default zero).
+        #[serde(default)]
+        velocity: InitialVelocity,
+    },
+    /// Uniform in an axis-aligned box.
+    Box {
+        /// Edge lengths along Hill x, y, z \[m\].
+        size_hill_m: [f64; 3],
+        /// Centre of the box, Hill frame \[m\] (default origin).
+        #[serde(default)]
+        center_hill_m: [f64; 3],
+        /// Initial velocity (default zero).
+        #[serde(default)]
+        velocity: InitialVelocity,
+    },
+    /// Uniform in a spherical shell.
+    Shell {
+        /// Inner radius \[m\].
+        inner_radius_m: f64,
+        /// Outer radius \[m\].
+        outer_radius_m: f64,
+        /// Centre, Hill frame \[m\] (default origin).
+        #[serde(default)]
+        center_hill_m: [f64; 3],
+        /// Initial velocity (default zero).
+        #[serde(default)]
+        velocity: InitialVelocity,
+    },
+    /// An explicit list of states [x, y, z, vx, vy, vz] in m and m/s.
+    List {
+        /// Frame of the listed states (default `hill`).
+        #[serde(default)]
+        frame: ListFrame,
+        /// One state per satellite.
+        states: Vec<[f64; 6]>,
+    },
+    /// A CSV file with header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps` (path relative to the scenario file).
+    Csv {
+        /// Path of the file.
+        path: String,
+        /// Frame of the rows (default `hill`).
+        #[serde(default)]
+        frame: ListFrame,
+    },
+}
+
+/// `[[satellites.overrides]]`: values that differ for some satellites.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OverrideSection {
+    /// Satellite indices concerned.
+    pub ids: Vec<usize>,
+    /// Mass \[kg\].
+    pub mass_kg: Option<f64>,
+    /// Physical radius \[m\].
+    pub radius_m: Option<f64>,
+    /// Actuator limit \[m/s^2\].
+    pub max_accel_mps2: Option<f64>,
+}
+
+/// `[sensing]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensingSection {
+    /// Range of sensors and links \[m\] (default 1000).
+    #[serde(default = "default_range")]
+    pub range_m: f64,
+    /// Navigation position noise, standard deviation per axis \[m\] (default 0).
+    #[serde(default)]
+    pub position_noise_m: f64,
+    /// Navigation velocity noise, standard deviation per axis \[m/s\] (default 0).
+    #[serde(default)]
+    pub velocity_noise_mps: f64,
+}
+
+fn default_range() -> f64 {
+    1000.0
+}
+
+impl Default for SensingSection {
+    fn default() -> Self {
+        Self {
+            range_m: default_range(),
+            position_noise_m: 0.0,
+            velocity_noise_mps: 0.0,
+        }
+    }
+}
+
+/// Satellites an event concerns: `"all"` or a list of indices.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SelectionSection {
+    /// The word `all`.
+    Word(String),
+    /// Indices.
+    Ids(Vec<usize>),
+}
+
+/// Thrust axes an event can fail.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AxisName {
+    /// Hill x.
+    X,
+    /// Hill y.
+    Y,
+    /// Hill z.
+    Z,
+    /// Every axis.
+    All,
+}
+
+/// `[[events]]`: `time_s` and an `action` with its keys (unknown keys are refused by the action).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EventSection {
+    /// When \[s\].
+    pub time_s: f64,
+    /// What.
+    #[serde(flatten)]
+    pub action: ActionSection,
+}
+
+/// Event actions.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "action", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ActionSection {
+    /// Replace some law parameters.
+    SetLawParameters {
+        /// The keys to replace.
+        parameters: toml::Table,
+    },
+    /// Switch law.
+    SwitchLaw {
+        /// The new law.
+        law: LawConfig,
+    },
+    /// Raise or clear the threat warning.
+    ThreatWarning {
+        /// New state.
+        active: bool,
+    },
+    /// Cut links.
+    CutLinks {
+        /// Who.
+        satellites: SelectionSection,
+    },
+    /// Restore links.
+    RestoreLinks {
+        /// Who.
+        satellites: SelectionSection,
+    },
+    /// Remove a satellite.
+    RemoveSatellite {
+        /// Which.
+        satellite: usize,
+    },
+    /// Fail a thruster axis.
+    FailThruster {
+        /// Which satellite.
+        satellite: usize,
+        /// Which axis.
+        axis: AxisName,
+    },
+}
+
+/// `[output]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Write `trajectory.csv` (default true; large swarms may turn it off).
+    #[serde(default = "default_true")]
+    pub trajectory: bool,
+    /// Extra metadata copied into `summary.json`.
+    #[serde(default)]
+    pub tags: BTreeMap<String, String>,
+}
+
+fn default_true() -> bool {
+    true
+}
+
+impl Default for OutputSection {
+    fn default() -> Self {
+        Self {
+            trajectory: true,
+            tags: BTreeMap::new(),
+        }
+    }
+}

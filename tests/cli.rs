@@ -1,0 +1,304 @@
+//! The command-line tool end to end: outputs, exit codes and what is (not) written on bad input.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn satflock() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_satflock"))
+}
+
+fn scratch_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("satflock-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn val_propagate_writes_exact_output_times_and_the_documented_header() {
+    let dir = scratch_dir("propagate");
+    let out = dir.join("orbit.csv");
+    let status = satflock()
+        .args([
+            "propagate",
+            "--elements",
+            "6978137,0.0002,98,10,20,30",
+            "--duration-s",
+            "600",
+            "--output-step-s",
+            "60",
+            "--gravity",
+            "j2",
+            "--integrator",
+            "rk78",
+            "--out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps"
+    );
+    let times: Vec<f64> = lines
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(times, (0..=10).map(|k| k as f64 * 60.0).collect::<Vec<_>>());
+}
+
+#[test]
+fn val_propagate_lvlh_of_itself_is_zero() {
+    let dir = scratch_dir("lvlh");
+    let out = dir.join("rel.csv");
+    let orbit = "7000000,0.001,51.6,0,0,0";
+    let status = satflock()
+        .args([
+            "propagate",
+            "--elements",
+            orbit,
+            "--reference-elements",
+            orbit,
+        ])
+        .args([
+            "--duration-s",
+            "300",
+            "--output-step-s",
+            "100",
+            "--frame",
+            "lvlh-gao",
+            "--out",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    for line in std::fs::read_to_string(&out).unwrap().lines().skip(1) {
+        for v in line.split(',').skip(1) {
+            assert_eq!(v.parse::<f64>().unwrap(), 0.0, "{line}");
+        }
+    }
+}
+
+#[test]
+fn val_propagate_bad_arguments_exit_2_and_write_nothing() {
+    let dir = scratch_dir("bad");
+    let out = dir.join("never.csv");
+    let cases: &[&[&str]] = &[
+        &[
+            "--elements",
+            "7000000,1.5,10,0,0,0",
+            "--duration-s",
+            "60",
+            "--output-step-s",
+            "10",
+        ],
+        &[
+            "--elements",
+            "7000000,0.1,10,0,0",
+            "--duration-s",
+            "60",
+            "--output-step-s",
+            "10",
+        ],
+        &[
+            "--elements",
+            "7000000,0.1,10,0,0,0",
+            "--duration-s",
+            "-60",
+            "--output-step-s",
+            "10",
+        ],
+        &[
+            "--elements",
+            "7000000,0.1,10,0,0,0",
+            "--duration-s",
+            "60",
+            "--output-step-s",
+            "0",
+        ],
+        &[
+            "--state",
+            "0,0,0,0,0,0",
+            "--duration-s",
+            "60",
+            "--output-step-s",
+            "10",
+        ],
+        &[
+            "--elements",
+            "7000000,0.1,10,0,0,0",
+            "--duration-s",
+            "60",
+            "--output-step-s",
+            "10",
+            "--frame",
+            "lvlh-hill",
+        ],
+        &["--duration-s", "60", "--output-step-s", "10"],
+    ];
+    for args in cases {
+        let output = satflock()
+            .arg("propagate")
+            .args(*args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("error"), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} left a file");
+        assert!(!out.with_extension("csv.partial").exists());
+    }
+}
+
+#[test]
+fn val_run_builtin_writes_summary_metrics_and_trajectory() {
+    let dir = scratch_dir("run");
+    let output = satflock()
+        .args(["run", "hold", "--quiet", "--threads", "2", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    for key in [
+        "scenario",
+        "seed",
+        "n_satellites",
+        "duration_s",
+        "wall_time_s",
+        "satellite_steps_per_s",
+        "delta_v_mps",
+        "min_separation_m",
+        "collisions",
+        "final",
+    ] {
+        assert!(summary.get(key).is_some(), "summary lacks {key}");
+    }
+    assert_eq!(summary["n_satellites"], 20);
+    assert_eq!(
+        summary["delta_v_mps"]["per_satellite"]
+            .as_array()
+            .unwrap()
+            .len(),
+        20
+    );
+    for key in [
+        "n",
+        "r_o_m",
+        "v_o_mps",
+        "d_max_m",
+        "d_min_m",
+        "uniformity_l",
+    ] {
+        assert!(
+            summary["final"]["five_elements"].get(key).is_some(),
+            "five_elements lacks {key}"
+        );
+    }
+    let metrics = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
+    // 4000 s at 10 s: 401 rows plus the header.
+    assert_eq!(metrics.lines().count(), 402);
+    let trajectory = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    assert_eq!(trajectory.lines().count(), 1 + 401 * 20);
+}
+
+#[test]
+fn val_run_bad_scenario_exits_2_naming_file_and_key() {
+    let dir = scratch_dir("badrun");
+    let file = dir.join("bad.toml");
+    std::fs::write(
+        &file,
+        "name = \"x\"\nseed = 1\nduration_s = 10.0\nrecord_interval_s = 1.0\n[reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n[satellites]\ncount = 2\nmass_kg = -3.0\ninitial = { distribution = \"sphere\", radius_m = 5.0 }\n[law]\nname = \"none\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = satflock()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("bad.toml") && stderr.contains("satellites.mass_kg"),
+        "{stderr}"
+    );
+    assert!(
+        !out.exists(),
+        "an invalid scenario created the output directory"
+    );
+}
+
+#[test]
+fn val_diverging_run_exits_1_and_leaves_valid_files() {
+    let dir = scratch_dir("diverge");
+    let file = dir.join("diverge.toml");
+    // Satellites start 500 m out with a 100 m divergence bound: the run stops at the first step.
+    std::fs::write(
+        &file,
+        "name = \"diverge\"\nseed = 1\nduration_s = 100.0\nrecord_interval_s = 1.0\n[dynamics]\nmax_distance_m = 600.0\n[reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n[satellites]\ncount = 2\nmass_kg = 1.0\ninitial = { distribution = \"list\", states = [[0,0,0,0,0,0],[0,589.5,0,0,1.0,0]] }\n[law]\nname = \"none\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = satflock()
+        .args(["run", "--quiet", "--out"])
+        .arg(&out)
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("satellite 1 diverged at t = 11 s"),
+        "{stderr}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "failed");
+    let metrics = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
+    let rows: Vec<&str> = metrics.lines().collect();
+    // header + t = 0..10 recorded before the failure, every row complete
+    assert_eq!(rows.len(), 12);
+    let columns = rows[0].split(',').count();
+    assert!(rows.iter().all(|r| r.split(',').count() == columns));
+}
+
+#[test]
+fn val_characterize_prints_the_closed_form_for_a_circle() {
+    let dir = scratch_dir("characterize");
+    let file = dir.join("circle.csv");
+    let mut text = String::from("x_m,y_m,z_m\n");
+    for k in 0..50 {
+        let a = std::f64::consts::TAU * k as f64 / 50.0;
+        text.push_str(&format!("{},{},0\n", 1000.0 * a.cos(), 1000.0 * a.sin()));
+    }
+    std::fs::write(&file, text).unwrap();
+    let output = satflock().arg("characterize").arg(&file).output().unwrap();
+    assert!(output.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let s = (std::f64::consts::PI / 50.0).sin();
+    let exact = 50.0 * (s / (1.0 + s)).powi(3);
+    let l = v["uniformity_l"].as_f64().unwrap();
+    assert!((l - exact).abs() < 1e-9 * exact, "L = {l}, exact {exact}");
+    assert_eq!(v["n"], 50);
+}
+
+#[test]
+fn val_scenarios_lists_every_builtin() {
+    let output = satflock().arg("scenarios").output().unwrap();
+    let text = String::from_utf8_lossy(&output.stdout);
+    for name in satflock::scenario::builtin::names() {
+        assert!(text.contains(name));
+    }
+}

@@ -1,0 +1,258 @@
+//! Scenario files: every built-in scenario is valid, and malformed files get an error naming the file,
+//! the key and what is allowed (table-driven: each case is a change to a valid file and the fragments
+//! its message must contain).
+
+use std::path::Path;
+
+use satflock::scenario::{builtin, Scenario, ScenarioError};
+
+const VALID: &str = r#"
+name = "t"
+seed = 1
+duration_s = 100.0
+record_interval_s = 10.0
+
+[reference]
+altitude_m = 600e3
+inclination_deg = 97.8
+
+[satellites]
+count = 4
+mass_kg = 10.0
+initial = { distribution = "sphere", radius_m = 50.0 }
+
+[law]
+name = "hold"
+stiffness_per_s2 = 1e-4
+damping_per_s = 2e-2
+"#;
+
+fn load(text: &str) -> Result<satflock::scenario::Prepared, ScenarioError> {
+    Scenario::from_toml(text, "case.toml", Path::new("."))?.prepare()
+}
+
+#[test]
+fn regress_every_builtin_scenario_is_valid() {
+    for b in builtin::BUILTINS {
+        let s = Scenario::load(b.name).unwrap_or_else(|e| panic!("{}: {e}", b.name));
+        s.prepare().unwrap_or_else(|e| panic!("{}: {e}", b.name));
+        assert!(
+            !s.file.description.is_empty(),
+            "{} has no description",
+            b.name
+        );
+    }
+}
+
+#[test]
+fn val_valid_base_case_loads() {
+    let p = load(VALID).unwrap();
+    assert_eq!(p.satellites.len(), 4);
+}
+
+#[test]
+fn val_malformed_scenarios_get_clear_errors() {
+    // (what is changed, replace `from` by `to` in VALID, fragments the message must contain)
+    let cases: &[(&str, &str, &str, &[&str])] = &[
+        (
+            "unknown top-level key",
+            "seed = 1",
+            "seed = 1\nsede = 2",
+            &["case.toml", "unknown field `sede`", "line 4"],
+        ),
+        (
+            "missing key",
+            "seed = 1\n",
+            "",
+            &["case.toml", "missing field `seed`"],
+        ),
+        (
+            "wrong type",
+            "count = 4",
+            "count = \"four\"",
+            &["case.toml", "invalid type", "line"],
+        ),
+        (
+            "negative count",
+            "count = 4",
+            "count = -4",
+            &["case.toml", "count"],
+        ),
+        (
+            "zero satellites",
+            "count = 4",
+            "count = 0",
+            &["case.toml", "satellites.count", "allowed: >= 1"],
+        ),
+        (
+            "negative mass",
+            "mass_kg = 10.0",
+            "mass_kg = -1.0",
+            &["case.toml", "satellites.mass_kg", "-1", "allowed: finite, > 0"],
+        ),
+        (
+            "duration",
+            "duration_s = 100.0",
+            "duration_s = 0.0",
+            &["duration_s", "allowed: finite, > 0"],
+        ),
+        (
+            "record interval longer than the run",
+            "record_interval_s = 10.0",
+            "record_interval_s = 1000.0",
+            &["record_interval_s", "allowed: (0, duration_s]"],
+        ),
+        (
+            "inclination out of range",
+            "inclination_deg = 97.8",
+            "inclination_deg = 197.8",
+            &["reference.inclination_deg", "197.8", "allowed: [0, 180]"],
+        ),
+        (
+            "orbit inside the Earth",
+            "altitude_m = 600e3",
+            "semi_major_axis_m = 6000e3",
+            &["reference.semi_major_axis_m", "inside the Earth"],
+        ),
+        (
+            "elements and state together",
+            "altitude_m = 600e3",
+            "altitude_m = 600e3\nposition_eci_m = [7e6, 0, 0]\nvelocity_eci_mps = [0, 7.5e3, 0]",
+            &["reference", "not both"],
+        ),
+        (
+            "unknown law",
+            "name = \"hold\"",
+            "name = \"flock\"",
+            &["unknown variant `flock`", "none", "hold"],
+        ),
+        (
+            "unknown law parameter",
+            "damping_per_s = 2e-2",
+            "damping_per_s = 2e-2\ndamping = 1",
+            &["unknown field `damping`"],
+        ),
+        (
+            "law parameter out of range",
+            "stiffness_per_s2 = 1e-4",
+            "stiffness_per_s2 = -1e-4",
+            &["key `law`", "stiffness_per_s2", "allowed: finite, > 0"],
+        ),
+        (
+            "sampled without period",
+            "[law]",
+            "[control]\nmode = \"sampled\"\n\n[law]",
+            &["control.period_s", "required"],
+        ),
+        (
+            "period in continuous mode",
+            "[law]",
+            "[control]\nperiod_s = 1.0\n\n[law]",
+            &["control.period_s", "applies only"],
+        ),
+        (
+            "unknown distribution",
+            "distribution = \"sphere\"",
+            "distribution = \"cloud\"",
+            &["unknown variant `cloud`"],
+        ),
+        (
+            "list with wrong count",
+            "initial = { distribution = \"sphere\", radius_m = 50.0 }",
+            "initial = { distribution = \"list\", states = [[0,0,0,0,0,0]] }",
+            &["satellites.initial.states", "1 states listed", "count = 4"],
+        ),
+        (
+            "shell inverted",
+            "initial = { distribution = \"sphere\", radius_m = 50.0 }",
+            "initial = { distribution = \"shell\", inner_radius_m = 50.0, outer_radius_m = 10.0 }",
+            &["satellites.initial.inner_radius_m", "allowed: [0, outer_radius_m]"],
+        ),
+        (
+            "missing csv",
+            "initial = { distribution = \"sphere\", radius_m = 50.0 }",
+            "initial = { distribution = \"csv\", path = \"no-such-file.csv\" }",
+            &["satellites.initial.path", "no-such-file.csv"],
+        ),
+        (
+            "event after the end",
+            "[law]",
+            "[[events]]\ntime_s = 500.0\naction = \"threat-warning\"\nactive = true\n\n[law]",
+            &["events[0].time_s", "500", "allowed: [0, duration_s = 100]"],
+        ),
+        (
+            "event naming a missing satellite",
+            "[law]",
+            "[[events]]\ntime_s = 50.0\naction = \"remove-satellite\"\nsatellite = 9\n\n[law]",
+            &["events[0].satellite", "satellite 9 does not exist", "0..=3"],
+        ),
+        (
+            "bad law parameter update",
+            "[law]",
+            "[[events]]\ntime_s = 50.0\naction = \"set-law-parameters\"\nparameters = { stifness_per_s2 = 1.0 }\n\n[law]",
+            &["events[0].parameters", "unknown field `stifness_per_s2`"],
+        ),
+        (
+            "unknown event action",
+            "[law]",
+            "[[events]]\ntime_s = 50.0\naction = \"explode\"\n\n[law]",
+            &["unknown variant `explode`"],
+        ),
+        (
+            "bad selection word",
+            "[law]",
+            "[[events]]\ntime_s = 50.0\naction = \"cut-links\"\nsatellites = \"some\"\n\n[law]",
+            &["events[0].satellites", "`some` is not allowed", "\"all\""],
+        ),
+        (
+            "member origin out of range",
+            "inclination_deg = 97.8",
+            "inclination_deg = 97.8\norigin = \"member\"\norigin_member = 4",
+            &["reference.origin_member", "satellite 4 does not exist"],
+        ),
+        (
+            "eccentric orbit with HCW",
+            "inclination_deg = 97.8",
+            "inclination_deg = 97.8\neccentricity = 0.02\n\n[dynamics]\nmodel = \"hcw\"",
+            &["dynamics.model", "circular", "0.02000"],
+        ),
+        (
+            "negative sensing range",
+            "[law]",
+            "[sensing]\nrange_m = -5.0\n\n[law]",
+            &["sensing.range_m", "allowed: finite, > 0"],
+        ),
+        (
+            "override of a missing satellite",
+            "[law]",
+            "[[satellites.overrides]]\nids = [7]\nmass_kg = 3.0\n\n[law]",
+            &["satellites.overrides[0].ids", "satellite 7 does not exist"],
+        ),
+    ];
+    for (what, from, to, fragments) in cases {
+        assert!(
+            VALID.contains(from),
+            "case `{what}`: `{from}` not in the base file"
+        );
+        let text = VALID.replacen(from, to, 1);
+        let message = match load(&text) {
+            Ok(_) => panic!("case `{what}` was accepted"),
+            Err(e) => e.to_string(),
+        };
+        for fragment in *fragments {
+            assert!(
+                message.contains(fragment),
+                "case `{what}`: message `{message}` lacks `{fragment}`"
+            );
+        }
+    }
+}
+
+#[test]
+fn val_unknown_scenario_name_lists_the_builtins() {
+    let message = Scenario::load("no-such-scenario").unwrap_err().to_string();
+    assert!(message.contains("no-such-scenario"));
+    for name in builtin::names() {
+        assert!(message.contains(name), "{message}");
+    }
+}
