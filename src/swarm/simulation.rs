@@ -1034,7 +1034,6 @@ impl Simulation {
             &scratch.sensed.relative,
             &self.active,
             &self.radii_m,
-            self.config.sensing.range_m,
             &mut scratch.live,
         );
         self.totals.min_separation_m = self.totals.min_separation_m.min(sep.0);
@@ -1145,13 +1144,8 @@ impl Simulation {
         } else {
             None
         };
-        let (min_sep, collisions) = live_separation(
-            &sensed.relative,
-            &self.active,
-            &self.radii_m,
-            self.config.sensing.range_m,
-            buffers,
-        );
+        let (min_sep, collisions) =
+            live_separation(&sensed.relative, &self.active, &self.radii_m, buffers);
         self.totals.final_five_elements = elements;
         let snapshot = Snapshot {
             time_s: self.time_s,
@@ -1170,33 +1164,52 @@ impl Simulation {
 }
 
 /// Minimum separation between live satellites \[m\] and the count of pairs closer than the sum of their
-/// radii, from relative positions (infinite and 0 with fewer than two live satellites). The grid's
-/// radius only sets its cell size: the nearest-neighbour search it serves is exact at any distance.
+/// radii, from relative positions (infinite and 0 with fewer than two live satellites). The search is
+/// exact at any distance; the grid's cell size only sets its speed, so it is taken from the swarm's own
+/// mean spacing (cube root of bounding-box volume per satellite, flat swarms padded to a slab).
 fn live_separation(
     relative: &[RelativeStateHill],
     active: &[bool],
     radii_m: &[f64],
-    cell_size_m: f64,
     live: &mut LiveMetrics,
 ) -> (f64, usize) {
     live.x.clear();
     live.y.clear();
     live.z.clear();
     live.radii_m.clear();
+    let mut low = Vector3::repeat(f64::INFINITY);
+    let mut high = Vector3::repeat(f64::NEG_INFINITY);
     for (i, rel) in relative.iter().enumerate() {
         if active[i] {
-            live.x.push(rel.position_m.x);
-            live.y.push(rel.position_m.y);
-            live.z.push(rel.position_m.z);
+            let p = rel.position_m;
+            live.x.push(p.x);
+            live.y.push(p.y);
+            live.z.push(p.z);
             live.radii_m.push(radii_m[i]);
+            low = low.inf(&p);
+            high = high.sup(&p);
         }
     }
-    if live
-        .grid
-        .build(&live.x, &live.y, &live.z, cell_size_m)
-        .is_err()
-    {
-        // Non-finite positions: the divergence check reports them; nothing to measure.
+    let count = live.x.len();
+    if count < 2 {
+        return (f64::INFINITY, 0);
+    }
+    let extent = high - low;
+    let largest = extent.max();
+    if largest == 0.0 {
+        // Every live satellite at the same point.
+        let collisions = if live.radii_m.iter().any(|r| *r > 0.0) {
+            count * (count - 1) / 2
+        } else {
+            0
+        };
+        return (0.0, collisions);
+    }
+    let floor = largest / (count as f64).cbrt();
+    let volume: f64 = extent.iter().map(|e| e.max(floor)).product();
+    let cell_m = (volume / count as f64).cbrt();
+    // A non-finite position makes the cell size or the build fail; the divergence check reports it.
+    if !cell_m.is_finite() || live.grid.build(&live.x, &live.y, &live.z, cell_m).is_err() {
         return (f64::NAN, 0);
     }
     match min_separation(&live.grid, &live.radii_m) {
