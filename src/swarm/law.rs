@@ -29,6 +29,8 @@ pub struct SharedInfo {
     pub mean_motion_rad_s: f64,
     /// Whether a ground threat warning is active (set and cleared by the event timeline).
     pub threat_warning_active: bool,
+    /// Range of every satellite's sensors and links \[m\]: neighbours farther away are never visited.
+    pub sensing_range_m: f64,
 }
 
 /// What satellite `i` knows of a neighbour `j` within sensing range.

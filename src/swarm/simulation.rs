@@ -342,6 +342,7 @@ impl Plant<'_> {
                 time_s,
                 mean_motion_rad_s: self.config.mean_motion_rad_s,
                 threat_warning_active: self.threat_warning_active,
+                sensing_range_m: sensing.range_m,
             },
         };
         (view, frame)
@@ -558,6 +559,12 @@ impl Simulation {
             return Err(SimError::InvalidSetup(
                 "the swarm has no satellite (allowed: 1 or more)".into(),
             ));
+        }
+        if !(config.sensing.range_m.is_finite() && config.sensing.range_m > 0.0) {
+            return Err(SimError::InvalidSetup(format!(
+                "sensing range {} m is out of range (allowed: finite, > 0)",
+                config.sensing.range_m
+            )));
         }
         if let Origin::Member(k) = config.origin {
             if k >= n {
