@@ -231,9 +231,11 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
         );
         bar
     };
+    let started = std::time::Instant::now();
     let mut progress = |t_s: f64| {
         bar.set_position((t_s * 1000.0).round() as u64);
-        bar.set_message(format!("t = {t_s:.0} s"));
+        let rate = t_s / started.elapsed().as_secs_f64().max(1e-9);
+        bar.set_message(format!("t = {t_s:.0} s ({rate:.1} sim-s/s)"));
     };
     let outcome = pool.install(|| run_scenario(&scenario, out, &mut progress));
     bar.finish_and_clear();
