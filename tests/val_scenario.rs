@@ -256,3 +256,30 @@ fn val_unknown_scenario_name_lists_the_builtins() {
         assert!(message.contains(name), "{message}");
     }
 }
+
+#[test]
+fn val_csv_and_gao_frame_initial_states_are_converted_to_hill() {
+    // A CSV in Gao's o-xyz frame (x along-track, y minus orbit normal, z nadir): the row
+    // (10, 20, 30) must become Hill (x radial = −z_gao, y along-track = x_gao, z normal = −y_gao).
+    let dir = std::env::temp_dir().join(format!("satflock-csv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("states.csv"),
+        "x_m,y_m,z_m,vx_mps,vy_mps,vz_mps\n10,20,30,0.1,0.2,0.3\n-1,0,0,0,0,0\n",
+    )
+    .unwrap();
+    let text = VALID.replace("count = 4", "count = 2").replace(
+        "initial = { distribution = \"sphere\", radius_m = 50.0 }",
+        "initial = { distribution = \"csv\", path = \"states.csv\", frame = \"gao\" }",
+    );
+    let file = dir.join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let prepared = Scenario::from_path(&file).unwrap().prepare().unwrap();
+    let s = prepared.satellites[0].relative_state;
+    assert_eq!(s.position_m, nalgebra::Vector3::new(-30.0, 10.0, -20.0));
+    assert_eq!(s.velocity_mps, nalgebra::Vector3::new(-0.3, 0.1, -0.2));
+    assert_eq!(
+        prepared.satellites[1].relative_state.position_m,
+        nalgebra::Vector3::new(0.0, -1.0, 0.0)
+    );
+}
