@@ -966,12 +966,12 @@ impl Simulation {
         let held_hill = &self.held_hill;
         let active = &self.active;
         let dynamics = config.dynamics;
-        let failures: Vec<Result<(), IntegrateError>> = scratch
+        scratch
             .per_satellite
             .par_chunks_mut(CHUNK)
             .zip(self.solo_steppers.par_iter_mut())
             .enumerate()
-            .map(|(c, (blocks, stepper))| {
+            .try_for_each(|(c, (blocks, stepper))| -> Result<(), IntegrateError> {
                 for (offset, block) in blocks.iter_mut().enumerate() {
                     let i = c * CHUNK + offset;
                     if !active[i] {
@@ -993,11 +993,7 @@ impl Simulation {
                     stepper.advance(&rhs, t0, t1, block, max_step)?;
                 }
                 Ok(())
-            })
-            .collect();
-        for result in failures {
-            result?;
-        }
+            })?;
         scatter(&scratch.per_satellite, n, data);
         Ok(())
     }
