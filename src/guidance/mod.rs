@@ -8,7 +8,9 @@
 //! | --- | --- | --- |
 //! | `none` | [`free_drift`] | no control: free drift under the truth dynamics |
 //! | `hold` | [`hold`] | PD hold of each satellite's slot (its relative position when the law starts) |
+//! | `bifurcating` | [`bifurcating`] | Gao et al. 2022 bifurcating potential field: formation, collision avoidance, damping |
 
+pub mod bifurcating;
 pub mod free_drift;
 pub mod hold;
 pub mod parameters;
@@ -26,17 +28,20 @@ pub enum LawConfig {
     None(free_drift::FreeDriftParameters),
     /// PD slot hold.
     Hold(hold::HoldParameters),
+    /// Bifurcating potential field (Gao et al. 2022).
+    Bifurcating(bifurcating::BifurcatingParameters),
 }
 
 impl LawConfig {
     /// Registry names of every law, for error messages and `satflock scenarios`.
-    pub const NAMES: &'static [&'static str] = &["none", "hold"];
+    pub const NAMES: &'static [&'static str] = &["none", "hold", "bifurcating"];
 
     /// Builds the law, checking its parameters.
     pub fn build(&self) -> Result<Box<dyn GuidanceLaw>, LawError> {
         Ok(match self {
             LawConfig::None(_) => Box::new(free_drift::FreeDrift),
             LawConfig::Hold(p) => Box::new(hold::Hold::new(p.clone())?),
+            LawConfig::Bifurcating(p) => Box::new(bifurcating::Bifurcating::new(p.clone())?),
         })
     }
 }

@@ -23,6 +23,62 @@ pub const BUILTINS: &[Builtin] = &[
         name: "large-swarm",
         toml: include_str!("../../scenarios/large-swarm.toml"),
     },
+    Builtin {
+        name: "gao-line",
+        toml: include_str!("../../scenarios/gao-line.toml"),
+    },
+    Builtin {
+        name: "gao-double-line",
+        toml: include_str!("../../scenarios/gao-double-line.toml"),
+    },
+    Builtin {
+        name: "gao-circle",
+        toml: include_str!("../../scenarios/gao-circle.toml"),
+    },
+    Builtin {
+        name: "gao-circle-steep",
+        toml: include_str!("../../scenarios/gao-circle-steep.toml"),
+    },
+    Builtin {
+        name: "gao-circle-large",
+        toml: include_str!("../../scenarios/gao-circle-large.toml"),
+    },
+    Builtin {
+        name: "gao-double-circle",
+        toml: include_str!("../../scenarios/gao-double-circle.toml"),
+    },
+    Builtin {
+        name: "gao-disk",
+        toml: include_str!("../../scenarios/gao-disk.toml"),
+    },
+    Builtin {
+        name: "gao-ellipse",
+        toml: include_str!("../../scenarios/gao-ellipse.toml"),
+    },
+    Builtin {
+        name: "gao-double-ellipse",
+        toml: include_str!("../../scenarios/gao-double-ellipse.toml"),
+    },
+    Builtin {
+        name: "gao-ellipse-disk",
+        toml: include_str!("../../scenarios/gao-ellipse-disk.toml"),
+    },
+    Builtin {
+        name: "gao-ellipsoid-surface",
+        toml: include_str!("../../scenarios/gao-ellipsoid-surface.toml"),
+    },
+    Builtin {
+        name: "gao-sphere-surface",
+        toml: include_str!("../../scenarios/gao-sphere-surface.toml"),
+    },
+    Builtin {
+        name: "gao-spherical-space",
+        toml: include_str!("../../scenarios/gao-spherical-space.toml"),
+    },
+    Builtin {
+        name: "gao-reconfiguration",
+        toml: include_str!("../../scenarios/gao-reconfiguration.toml"),
+    },
 ];
 
 /// The built-in scenario of that name.

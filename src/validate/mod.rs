@@ -3,6 +3,7 @@
 //! and a verdict. `satflock validate TARGET` prints the report as a Markdown table for the README.
 
 pub mod core;
+pub mod gao;
 
 use std::fmt;
 
@@ -107,12 +108,16 @@ pub enum ValidateError {
 pub const TARGETS: &[(&str, &str)] = &[(
     "core",
     "orbital mechanics and relative motion: J2 secular rates, integrator accuracy, HCW and SS vs truth",
+), (
+    "gao",
+    "Gao et al. 2022 bifurcating potential field: outcomes O1-O14 (shapes, speed-up, Table 5, delta-v)",
 )];
 
 /// Runs one target.
 pub fn run(target: &str) -> Result<Report, ValidateError> {
     match target {
         "core" => core::report(),
+        "gao" => gao::report(),
         _ => Err(ValidateError::UnknownTarget {
             name: target.to_string(),
             allowed: TARGETS.iter().map(|t| t.0).collect::<Vec<_>>().join(", "),

@@ -1,0 +1,756 @@
+//! `satflock validate gao`: the outcomes O1–O14 of `shared/specs/gao-bifurcating-potential.md` §6
+//! (Gao, Li & Wei 2022), reproduced at full length from the built-in `gao-*` scenarios, several seeds
+//! where the outcome depends on the random initial state (the median is reported).
+//!
+//! The run helpers ([`run_builtin`], [`Trace`]) are public so that the release-mode tests
+//! (`tests/regress_gao.rs`) exercise the same code on fewer seeds.
+
+use nalgebra::Vector3;
+
+use crate::guidance::bifurcating::{BifurcatingParameters, ShapeError};
+use crate::guidance::parameters::merge_parameters;
+use crate::guidance::LawConfig;
+use crate::integrate::{IntegratorMethod, Tolerances};
+use crate::metrics::{five_elements, FiveElements, FiveElementsWorkspace};
+use crate::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel};
+use crate::propagate::{propagate, PropagationSettings};
+use crate::scenario::schema::ActionSection;
+use crate::scenario::Scenario;
+use crate::swarm::{Recorder, Simulation, Snapshot};
+use crate::validate::{Check, Report, ValidateError, Verdict};
+
+/// Seeds of the seed-dependent reproductions (spec §6: at least 5, median reported).
+pub const SEEDS: [u64; 5] = [1, 2, 3, 4, 5];
+
+/// Offset between the `gao-reconfiguration` clock and Table 5's clock \[s\]: the disk forms for 2000 s
+/// before Table 5's t = 0 (spec §4.2).
+pub const TABLE5_OFFSET_S: f64 = 2000.0;
+
+fn failed(e: impl std::fmt::Display) -> ValidateError {
+    ValidateError::Failed {
+        target: "gao".into(),
+        message: e.to_string(),
+    }
+}
+
+/// A recorded run of a `bifurcating` scenario.
+#[derive(Clone, Debug)]
+pub struct Trace {
+    /// Recording times \[s\].
+    pub times_s: Vec<f64>,
+    /// Positions relative to the formation centre, Gao `o-xyz` \[m\], per recording time and satellite.
+    pub positions_gao_m: Vec<Vec<Vector3<f64>>>,
+    /// Five elements (ECI) per recording time.
+    pub five: Vec<FiveElements>,
+    /// Law parameters in force at each recording time (events applied).
+    pub parameters: Vec<BifurcatingParameters>,
+    /// Final delta-v per satellite, ∫‖u‖dt \[m/s\].
+    pub delta_v_mps: Vec<f64>,
+}
+
+impl Trace {
+    /// Shape error at recording `k` against the parameters then in force.
+    pub fn shape_error(&self, k: usize) -> ShapeError {
+        self.parameters[k].shape_error(&self.positions_gao_m[k])
+    }
+
+    /// Index of the recording at time `t_s` (the nearest one).
+    pub fn index_at(&self, t_s: f64) -> usize {
+        let mut best = 0;
+        for (k, t) in self.times_s.iter().enumerate() {
+            if (t - t_s).abs() < (self.times_s[best] - t_s).abs() {
+                best = k;
+            }
+        }
+        best
+    }
+
+    /// Time from `from_s` to the first recording in [`from_s`, `until_s`] where the shape is reached
+    /// (5 % criterion of [`ShapeError::reached`]) \[s\]; `None` if never.
+    pub fn time_to_shape_s(&self, from_s: f64, until_s: f64) -> Option<f64> {
+        (0..self.times_s.len())
+            .filter(|&k| self.times_s[k] >= from_s && self.times_s[k] <= until_s)
+            .find(|&k| self.shape_error(k).reached() == Some(true))
+            .map(|k| self.times_s[k] - from_s)
+    }
+
+    /// Uniformity L at recording `k`.
+    pub fn l(&self, k: usize) -> f64 {
+        self.five[k].uniformity_l
+    }
+}
+
+struct Collect {
+    trace: Trace,
+    schedule: Vec<(f64, BifurcatingParameters)>,
+    workspace: FiveElementsWorkspace,
+}
+
+impl Recorder for Collect {
+    fn record(&mut self, s: &Snapshot<'_>) -> std::io::Result<()> {
+        let t = s.time_s;
+        self.trace.times_s.push(t);
+        self.trace.positions_gao_m.push(
+            s.relative_states
+                .iter()
+                .map(|r| hill_to_gao(&r.position_m))
+                .collect(),
+        );
+        let p: Vec<[f64; 3]> = s
+            .inertial_states
+            .iter()
+            .map(|c| c.position_m.into())
+            .collect();
+        let v: Vec<[f64; 3]> = s
+            .inertial_states
+            .iter()
+            .map(|c| c.velocity_mps.into())
+            .collect();
+        let five = five_elements(&p, &v, None, &mut self.workspace)
+            .map_err(|e| std::io::Error::other(e.to_string()))?;
+        self.trace.five.push(five);
+        let current = self
+            .schedule
+            .iter()
+            .rev()
+            .find(|(ts, _)| *ts <= t + 1e-9)
+            .map(|(_, p)| p.clone())
+            .unwrap_or_else(|| self.schedule[0].1.clone());
+        self.trace.parameters.push(current);
+        self.trace.delta_v_mps = s.delta_v_mps.to_vec();
+        Ok(())
+    }
+}
+
+/// Runs the built-in scenario `name` with `seed`, optionally cut to `duration_s` (later events dropped),
+/// recording every `record_interval_s` of the scenario.
+pub fn run_builtin(name: &str, seed: u64, duration_s: Option<f64>) -> Result<Trace, ValidateError> {
+    let mut scenario = Scenario::load(name).map_err(failed)?;
+    scenario.file.seed = seed;
+    if let Some(d) = duration_s {
+        scenario.file.duration_s = d;
+        scenario.file.events.retain(|e| e.time_s <= d);
+    }
+    let LawConfig::Bifurcating(initial) = &scenario.file.law else {
+        return Err(failed(format!("{name} does not run the bifurcating law")));
+    };
+    let mut schedule = vec![(0.0, initial.clone())];
+    let mut events: Vec<_> = scenario.file.events.iter().collect();
+    events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
+    for e in events {
+        if let ActionSection::SetLawParameters { parameters } = &e.action {
+            let last = schedule
+                .last()
+                .map(|s| s.1.clone())
+                .unwrap_or(initial.clone());
+            let merged = merge_parameters("bifurcating", &last, parameters).map_err(failed)?;
+            schedule.push((e.time_s, merged));
+        }
+    }
+    let prepared = scenario.prepare().map_err(failed)?;
+    let mut sim = Simulation::new(
+        prepared.config,
+        &prepared.satellites,
+        prepared.law,
+        prepared.events,
+    )
+    .map_err(failed)?;
+    let mut collect = Collect {
+        trace: Trace {
+            times_s: Vec::new(),
+            positions_gao_m: Vec::new(),
+            five: Vec::new(),
+            parameters: Vec::new(),
+            delta_v_mps: Vec::new(),
+        },
+        schedule,
+        workspace: FiveElementsWorkspace::new(),
+    };
+    sim.run(&mut collect, &mut |_| {}).map_err(failed)?;
+    Ok(collect.trace)
+}
+
+/// Median of a non-empty list (mean of the two middle values for even lengths).
+pub fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Table 5 cluster-centre states (ECI, km and km/s as printed) at 0, 1000, 1500 and 2000 s.
+pub const TABLE5_CENTRE: [(f64, [f64; 6]); 4] = [
+    (
+        0.0,
+        [
+            -443.54295,
+            899.34186,
+            -6898.0861,
+            7.4271828,
+            1.3587345,
+            -0.29933858,
+        ],
+    ),
+    (
+        1000.0,
+        [
+            5850.6303,
+            1530.4312,
+            -3471.9062,
+            3.9039044,
+            -0.22348015,
+            6.4713810,
+        ],
+    ),
+    (
+        1500.0,
+        [
+            6869.2879,
+            1204.6086,
+            106.34651,
+            0.069789521,
+            -1.0478601,
+            7.4884619,
+        ],
+    ),
+    (
+        2000.0,
+        [
+            5917.3955, 533.21440, 3654.0846, -3.7823796, -1.5714632, 6.3527428,
+        ],
+    ),
+];
+
+/// O3: propagates Table 5's t = 0 centre with `gravity` (spec constants: μ = 398600.4418 km³/s²,
+/// R = 6378.137 km, J2 = 1.08263e-3) and returns, at 1000/1500/2000 s, the position and velocity
+/// differences from Table 5 \[m, m/s\].
+pub fn table5_centre_errors(gravity: GravityModel) -> Result<Vec<(f64, f64, f64)>, ValidateError> {
+    let earth = EarthModel {
+        mu_m3_s2: 398_600.441_8e9,
+        equatorial_radius_m: 6_378_137.0,
+        j2: 1.082_63e-3,
+    };
+    let s0 = TABLE5_CENTRE[0].1;
+    let initial = CartesianState::new(
+        Vector3::new(s0[0], s0[1], s0[2]) * 1e3,
+        Vector3::new(s0[3], s0[4], s0[5]) * 1e3,
+    );
+    let settings = PropagationSettings {
+        earth,
+        gravity,
+        integrator: IntegratorMethod::Rk78,
+        step_s: 60.0,
+        tolerances: Tolerances {
+            relative: 1e-12,
+            absolute: 1e-6,
+        },
+        duration_s: 2000.0,
+        output_step_s: 500.0,
+    };
+    let mut out = Vec::new();
+    propagate(&[initial], &settings, |t, states| {
+        if let Some((_, e)) = TABLE5_CENTRE[1..]
+            .iter()
+            .find(|(tt, _)| (tt - t).abs() < 1e-6)
+        {
+            let dr = states[0].position_m - Vector3::new(e[0], e[1], e[2]) * 1e3;
+            let dv = states[0].velocity_mps - Vector3::new(e[3], e[4], e[5]) * 1e3;
+            out.push((t, dr.norm(), dv.norm()));
+        }
+    })
+    .map_err(failed)?;
+    Ok(out)
+}
+
+/// Fraction of satellites whose final in-plane radius is within `tolerance` (relative) of one of
+/// `radii_m`, and the fraction that ended on the ring nearer to its radius at `from_k` (`boundary_m`:
+/// below → inner ring). Radii are ρ = √(x² + z²) (Gao, a = b = 1).
+pub fn ring_assignment(
+    trace: &Trace,
+    from_k: usize,
+    to_k: usize,
+    radii_m: [f64; 2],
+    boundary_m: f64,
+    tolerance: f64,
+) -> (f64, f64) {
+    let rho = |q: &Vector3<f64>| (q.x * q.x + q.z * q.z).sqrt();
+    let n = trace.positions_gao_m[to_k].len() as f64;
+    let mut on_ring = 0.0;
+    let mut nearest = 0.0;
+    for (q0, q1) in trace.positions_gao_m[from_k]
+        .iter()
+        .zip(&trace.positions_gao_m[to_k])
+    {
+        let r1 = rho(q1);
+        if radii_m.iter().any(|r| (r1 - r).abs() <= tolerance * r) {
+            on_ring += 1.0;
+        }
+        let inner_start = rho(q0) < boundary_m;
+        let inner_end = (r1 - radii_m[0]).abs() < (r1 - radii_m[1]).abs();
+        if inner_start == inner_end {
+            nearest += 1.0;
+        }
+    }
+    (on_ring / n, nearest / n)
+}
+
+/// Whether a filled shape is filled: median shape coordinate ≤ 0.85 × its largest (uniform disk: 0.71,
+/// uniform ball: 0.79, any ring or shell: 1.0).
+pub fn filled_ratio(trace: &Trace, k: usize) -> f64 {
+    let p = &trace.parameters[k];
+    let mut probe = p.clone();
+    probe.radius_m = 0.0;
+    let coordinates: Vec<f64> = trace.positions_gao_m[k]
+        .iter()
+        .map(|q| {
+            probe
+                .shape_error(std::slice::from_ref(q))
+                .max_shape_coordinate_m
+        })
+        .collect();
+    let max = coordinates.iter().copied().fold(0.0, f64::max);
+    median(&coordinates) / max
+}
+
+fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Check {
+    Check {
+        id: id.into(),
+        outcome: outcome.into(),
+        paper,
+        ours,
+        verdict: if ok {
+            Verdict::Reproduced
+        } else {
+            Verdict::Differs
+        },
+    }
+}
+
+fn runs(name: &str, duration_s: Option<f64>) -> Result<Vec<Trace>, ValidateError> {
+    SEEDS
+        .iter()
+        .map(|&s| run_builtin(name, s, duration_s))
+        .collect()
+}
+
+/// The full report.
+pub fn report() -> Result<Report, ValidateError> {
+    let mut checks = Vec::new();
+    let mut notes = Vec::new();
+
+    // O1: closed form of L for 50 evenly spaced points on a circle (spec §2).
+    let n = 50usize;
+    let ring: Vec<[f64; 3]> = (0..n)
+        .map(|k| {
+            let t = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            [t.cos(), 0.0, t.sin()]
+        })
+        .collect();
+    let mut ws = FiveElementsWorkspace::new();
+    let l_ring = five_elements(&ring, &vec![[0.0; 3]; n], None, &mut ws)
+        .map_err(failed)?
+        .uniformity_l;
+    let s = (std::f64::consts::PI / n as f64).sin();
+    let closed = n as f64 * (s / (1.0 + s)).powi(3);
+    checks.push(check(
+        "O1",
+        "L of 50 evenly spaced points on a circle (Eq. 28); exact closed form N(s/(1+s))³, s = sin(π/N), 1e-9",
+        "≈ 0.01 (its own formula gives 0.008695)".into(),
+        format!("{l_ring:.7} (closed form {closed:.7})"),
+        ((l_ring - closed) / closed).abs() <= 1e-9,
+    ));
+
+    // Circle G3 and steeper G4 (O6–O8).
+    let g3 = runs("gao-circle", None)?;
+    let g4 = runs("gao-circle-steep", None)?;
+    let t3: Vec<f64> = g3
+        .iter()
+        .map(|t| t.time_to_shape_s(0.0, 2000.0).unwrap_or(f64::INFINITY))
+        .collect();
+    let t4: Vec<f64> = g4
+        .iter()
+        .map(|t| t.time_to_shape_s(0.0, 2000.0).unwrap_or(f64::INFINITY))
+        .collect();
+    let l3: Vec<f64> = g3.iter().map(|t| t.l(t.times_s.len() - 1)).collect();
+    let (mt3, mt4, ml3) = (median(&t3), median(&t4), median(&l3));
+    checks.push(check(
+        "O6",
+        "G3 circle: 5 % band (radial and |y|) reached before 1000 s; L(2000 s) in [0.009, 0.0104]",
+        "ring by ~1000 s, L → 0.01".into(),
+        format!("median {mt3:.0} s, L(2000 s) = {ml3:.4}"),
+        mt3 < 1000.0 && (0.009..=0.0104).contains(&ml3),
+    ));
+    let ratio = mt4 / mt3;
+    checks.push(check(
+        "O7",
+        "G4 (μ = −20 km) vs G3 (μ = −5 km) time to the 5 % band; ratio ≤ 0.6",
+        "\"roughly halves\" (ratio ≈ 0.5)".into(),
+        format!("{mt4:.0} s vs {mt3:.0} s, ratio {ratio:.2}"),
+        ratio <= 0.6,
+    ));
+    let dv3: Vec<f64> = g3.iter().map(|t| median(&t.delta_v_mps)).collect();
+    let dv4: Vec<f64> = g4.iter().map(|t| median(&t.delta_v_mps)).collect();
+    let max3 = g3
+        .iter()
+        .flat_map(|t| t.delta_v_mps.iter().copied())
+        .fold(0.0, f64::max);
+    checks.push(Check {
+        id: "O8".into(),
+        outcome: "G3 Δv per satellite over 2000 s (Fig. 13)".into(),
+        paper: "< 1 m/s".into(),
+        ours: format!(
+            "median {:.1} m/s, max {max3:.1} m/s (G4: {:.1} m/s)",
+            median(&dv3),
+            median(&dv4)
+        ),
+        verdict: Verdict::NotReproduced,
+    });
+    notes.push(
+        "O8: with the stated gains the initial push k_f·|e|·(|e|+|μ|) ≈ 7.4 kN on 100 kg drives each \
+         satellite to F/k_v ≈ 3.7 m/s, which it must shed again, and holding a radial offset costs \
+         3ω²|z| (≈ 1.3 m/s per 1000 s at 0.5 km); any rest-to-rest move of 0.45 km in 1000 s needs ≥ 0.9 \
+         m/s. The paper's < 1 m/s is not reachable with these gains; the law is not altered to match."
+            .into(),
+    );
+
+    // O10: lines.
+    let g1 = runs("gao-line", None)?;
+    let g2 = runs("gao-double-line", None)?;
+    let z1: Vec<f64> = g1
+        .iter()
+        .map(|t| {
+            let e = t.shape_error(t.times_s.len() - 1);
+            e.max_residual_m
+                .unwrap_or(f64::INFINITY)
+                .max(e.max_out_of_plane_m)
+        })
+        .collect();
+    let z2: Vec<f64> = g2
+        .iter()
+        .map(|t| {
+            let e = t.shape_error(t.times_s.len() - 1);
+            e.max_residual_m
+                .unwrap_or(f64::INFINITY)
+                .max(e.max_out_of_plane_m)
+        })
+        .collect();
+    checks.push(check(
+        "O10",
+        "G1 line z = 0 and G2 lines z = ±0.5 km: largest distance from the target lines (|z| or ||z|−0.5 km|, and |y|) at 2000 s ≤ 5 m",
+        "lines formed (Fig. 11)".into(),
+        format!("G1 {:.2} m, G2 {:.2} m (medians)", median(&z1), median(&z2)),
+        median(&z1) <= 5.0 && median(&z2) <= 5.0,
+    ));
+
+    // O11: large circle.
+    let g5 = runs("gao-circle-large", None)?;
+    let e5: Vec<f64> = g5
+        .iter()
+        .map(|t| {
+            let e = t.shape_error(t.times_s.len() - 1);
+            e.max_residual_m.unwrap_or(f64::INFINITY) / e.size_m.unwrap_or(f64::NAN)
+        })
+        .collect();
+    checks.push(check(
+        "O11",
+        "G5 circle r = 5 km: largest radial error at 2000 s ≤ 3 %",
+        "circle formed (Fig. 16)".into(),
+        format!("{:.2} % (median)", 100.0 * median(&e5)),
+        median(&e5) <= 0.03,
+    ));
+
+    // O9: concentric double circle.
+    let g6 = runs("gao-double-circle", None)?;
+    let on: Vec<(f64, f64)> = g6
+        .iter()
+        .map(|t| ring_assignment(t, 0, t.times_s.len() - 1, [500.0, 1500.0], 1000.0, 0.03))
+        .collect();
+    let on_ring = median(&on.iter().map(|x| x.0).collect::<Vec<_>>());
+    let nearest = median(&on.iter().map(|x| x.1).collect::<Vec<_>>());
+    checks.push(check(
+        "O9",
+        "G6 double circle 0.5/1.5 km at 2000 s: every satellite within 3 % of a ring; ≥ 95 % on the ring nearer its start (ρ < 1 km → inner)",
+        "two rings, satellites to the nearer ring (Fig. 17)".into(),
+        format!(
+            "{:.0} % within 3 % of a ring, {:.0} % on the nearer ring (medians)",
+            100.0 * on_ring,
+            100.0 * nearest
+        ),
+        on_ring >= 1.0 && nearest >= 0.95,
+    ));
+    notes.push(
+        "O9: with μ = +0.5 km the ring stiffness is k_f·φ''(±μ) = k_f·μ = 1.5 N/m, so the damped time \
+         constant is k_v/(k_f μ) ≈ 1330 s; satellites starting near the ridge ρ = 1 km leave it at the \
+         same slow rate, and 2000 s is not enough for all of them to settle from a 2 km cube."
+            .into(),
+    );
+
+    // O12: Fig. 19 shapes.
+    let surfaces = [
+        ("gao-ellipse", "ellipse 1/0.6"),
+        ("gao-double-ellipse", "double ellipse"),
+        ("gao-ellipsoid-surface", "ellipsoid surface"),
+        ("gao-sphere-surface", "sphere surface"),
+    ];
+    let mut ours12 = Vec::new();
+    let mut ok12 = true;
+    let mut l19 = Vec::new();
+    for (name, label) in surfaces {
+        let tr = runs(name, None)?;
+        let rel: Vec<f64> = tr
+            .iter()
+            .map(|t| {
+                let e = t.shape_error(t.times_s.len() - 1);
+                e.max_residual_m
+                    .unwrap_or(f64::INFINITY)
+                    .max(e.max_out_of_plane_m)
+                    / e.size_m.unwrap_or(f64::NAN)
+            })
+            .collect();
+        let m = median(&rel);
+        ok12 &= m <= 0.03;
+        ours12.push(format!("{label} {:.1} %", 100.0 * m));
+        l19.push((
+            label,
+            median(
+                &tr.iter()
+                    .map(|t| t.l(t.times_s.len() - 1))
+                    .collect::<Vec<_>>(),
+            ),
+        ));
+    }
+    for (name, label) in [
+        ("gao-disk", "disk"),
+        ("gao-ellipse-disk", "ellipse disk"),
+        ("gao-spherical-space", "spherical space"),
+    ] {
+        let tr = runs(name, None)?;
+        let f: Vec<f64> = tr
+            .iter()
+            .map(|t| filled_ratio(t, t.times_s.len() - 1))
+            .collect();
+        let m = median(&f);
+        ok12 &= m <= 0.85;
+        ours12.push(format!("{label} median/max coordinate {m:.2}"));
+        l19.push((
+            label,
+            median(
+                &tr.iter()
+                    .map(|t| t.l(t.times_s.len() - 1))
+                    .collect::<Vec<_>>(),
+            ),
+        ));
+    }
+    checks.push(check(
+        "O12",
+        "Fig. 18–19 shapes at 2000 s: surfaces within 3 % of their size (residual and |y|); filled shapes filled (median/max shape coordinate ≤ 0.85)",
+        "every shape formed".into(),
+        ours12.join("; "),
+        ok12,
+    ));
+
+    // O2: Table 3 rows from our simulated end states (the analytic rows are tests/val_metrics.rs).
+    let table3 = [
+        ("ellipse 1/0.6", 0.005165),
+        ("double ellipse", f64::NAN),
+        ("ellipsoid surface", 0.202120),
+        ("sphere surface", 0.341012),
+        ("disk", 0.071897),
+        ("ellipse disk", 0.050474),
+        ("spherical space", 0.765401),
+    ];
+    for (label, paper) in table3 {
+        if paper.is_nan() {
+            continue;
+        }
+        let ours = l19
+            .iter()
+            .find(|x| x.0 == label)
+            .map(|x| x.1)
+            .unwrap_or(f64::NAN);
+        let ratio = ours / paper;
+        checks.push(Check {
+            id: "O2".into(),
+            outcome: format!(
+                "Table 3 L, {label}: our simulated end state at 2000 s (median of 5 seeds)"
+            ),
+            paper: format!("{paper}"),
+            ours: format!("{ours:.5} (ratio {ratio:.2})"),
+            verdict: if (ratio - 1.0).abs() <= 0.1 {
+                Verdict::Reproduced
+            } else if label == "ellipse disk" || label == "spherical space" {
+                Verdict::NotReproduced
+            } else {
+                Verdict::Differs
+            },
+        });
+    }
+    notes.push(
+        "O2: the analytic Table 3 rows (circle 0.8 %, sphere surface, double circle 35/15, disk rings) are \
+         asserted in tests/val_metrics.rs. The filled rows ellipse disk, ellipsoidal and spherical space \
+         exceed every point set confined to the shape that the spec tried (spherical space 0.765 exceeds \
+         close packing), so the generating sets are unknown; the Table 3 ellipse disk is 1/0.5, Fig. 19c \
+         (simulated here) 1/0.6."
+            .into(),
+    );
+
+    // O3: centre propagation.
+    let j2 = table5_centre_errors(GravityModel::J2)?;
+    let kepler = table5_centre_errors(GravityModel::TwoBody)?;
+    let worst = |v: &[(f64, f64, f64)]| {
+        v.iter()
+            .fold((0.0_f64, 0.0_f64), |a, x| (a.0.max(x.1), a.1.max(x.2)))
+    };
+    let (wr, wv) = worst(&j2);
+    let (kr, _) = worst(&kepler);
+    checks.push(check(
+        "O3",
+        "Table 5 cluster centre at 1000/1500/2000 s from its t = 0 state, point mass + J2: ≤ 0.5 km, ≤ 1 m/s (two-body must miss)",
+        "Table 5 (r_o, v_o)".into(),
+        format!(
+            "J2: {} (worst {:.3} km, {:.2} m/s); two-body worst {:.1} km",
+            j2.iter()
+                .map(|x| format!("{:.0} s {:.3} km", x.0, x.1 / 1e3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            wr / 1e3,
+            wv,
+            kr / 1e3
+        ),
+        wr <= 500.0 && wv <= 1.0 && kr > 5_000.0,
+    ));
+
+    // G9: the Table 4 sequence (O4, O5, O13, O14).
+    let g9 = runs("gao-reconfiguration", None)?;
+    let n_all = g9.iter().all(|t| t.five.iter().all(|f| f.n == 50));
+    checks.push(check(
+        "O4",
+        "N = 50 at every recorded time of G9",
+        "50".into(),
+        if n_all { "50" } else { "lost satellites" }.into(),
+        n_all,
+    ));
+    let sw = TABLE5_OFFSET_S + 1000.0;
+    let mut dip = Vec::new();
+    let mut l_end = Vec::new();
+    let mut diam_end = Vec::new();
+    let mut l_disk = Vec::new();
+    let mut t5 = Vec::new();
+    for t in &g9 {
+        let k_sw = t.index_at(sw);
+        let k_min = (k_sw..=t.index_at(sw + 150.0))
+            .min_by(|&a, &b| t.l(a).total_cmp(&t.l(b)))
+            .unwrap_or(k_sw);
+        dip.push(t.l(k_sw) / t.l(k_min));
+        let k_end = t.index_at(sw + 1000.0 - 1e-6);
+        l_end.push(t.l(k_end));
+        diam_end.push(t.five[k_end].diameter_m);
+        let disk: Vec<f64> = (t.index_at(TABLE5_OFFSET_S)..=k_sw)
+            .map(|k| t.l(k))
+            .collect();
+        l_disk.push(median(&disk));
+        t5.push([0.0, 1000.0, 1050.0, 1100.0, 1500.0, 2000.0].map(|x| {
+            let k = t.index_at(TABLE5_OFFSET_S + x);
+            (t.five[k].diameter_m, t.five[k].d_min_m, t.l(k))
+        }));
+    }
+    let (md, mle, mde) = (median(&dip), median(&l_end), median(&diam_end));
+    checks.push(check(
+        "O5",
+        "G9 disk → circle (Table 5 t = 1000 s): L dips ≥ 5× within 150 s; L(2000 s) in [0.006, 0.0105]; diameter(2000 s) in [0.98, 1.08] km",
+        "L 0.0709 → 0.0046 (1100 s) → 0.0086; diameter 1.003 km".into(),
+        format!("dip ×{md:.1}, L(2000 s) = {mle:.4}, diameter {:.3} km", mde / 1e3),
+        md >= 5.0 && (0.006..=0.0105).contains(&mle) && (980.0..=1080.0).contains(&mde),
+    ));
+    let table5_ours = (0..6)
+        .map(|j| {
+            let d = median(&t5.iter().map(|r| r[j].0).collect::<Vec<_>>()) / 1e3;
+            let m = median(&t5.iter().map(|r| r[j].1).collect::<Vec<_>>()) / 1e3;
+            let l = median(&t5.iter().map(|r| r[j].2).collect::<Vec<_>>());
+            format!("{d:.3}/{m:.4}/{l:.4}")
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    notes.push(format!(
+        "Table 5 (diameter km / d_min km / L at 0, 1000, 1050, 1100, 1500, 2000 s), paper: \
+         0.923/0.0916/0.0697, 0.921/0.0944/0.0709, 0.966/0.0509/0.0210, 1.004/0.0033/0.0046, \
+         1.003/0.0275/0.0066, 1.003/0.0468/0.0086; ours (medians of 5 seeds): {table5_ours}. Our disk \
+         (s = 1 km, μ = −1 km) is larger than the paper's 0.923 km: the paper's disk s is not given."
+    ));
+    let ml_disk = median(&l_disk);
+    checks.push(check(
+        "O14",
+        "G9 L while in the disk (Table 5 0–1000 s) in [0.05, 0.09] (the text's \"0.7\" is a typo for 0.07)",
+        "≈ 0.07".into(),
+        format!("{ml_disk:.4} (median)"),
+        (0.05..=0.09).contains(&ml_disk),
+    ));
+    // O13: every stage reached at its end, nearest-ring assignment on ellipse → double circle.
+    let stage_ends = [
+        (TABLE5_OFFSET_S + 2000.0, "circle"),
+        (TABLE5_OFFSET_S + 3000.0, "line"),
+        (TABLE5_OFFSET_S + 4000.0, "double line"),
+        (TABLE5_OFFSET_S + 5000.0, "ellipse"),
+        (TABLE5_OFFSET_S + 6000.0, "double circle"),
+    ];
+    let mut ours13 = Vec::new();
+    let mut ok13 = true;
+    for (end, label) in stage_ends {
+        let rel: Vec<f64> = g9
+            .iter()
+            .map(|t| {
+                let k = t.index_at(end - 1e-6);
+                let e = t.shape_error(k);
+                let err = e
+                    .max_residual_m
+                    .unwrap_or(f64::INFINITY)
+                    .max(e.max_out_of_plane_m);
+                match e.size_m {
+                    Some(size) => err / size,
+                    None => err / 1e4, // single line: absolute error over 10 m, shown in %
+                }
+            })
+            .collect();
+        let m = median(&rel);
+        let limit = if label == "line" { 5e-4 } else { 0.05 };
+        ok13 &= m <= limit;
+        ours13.push(if label == "line" {
+            format!("{label} {:.2} m", m * 1e4)
+        } else {
+            format!("{label} {:.1} %", 100.0 * m)
+        });
+    }
+    let nearest13 = median(
+        &g9.iter()
+            .map(|t| {
+                let from = t.index_at(TABLE5_OFFSET_S + 5000.0);
+                ring_assignment(t, from, t.times_s.len() - 1, [500.0, 1500.0], 1000.0, 0.05).1
+            })
+            .collect::<Vec<_>>(),
+    );
+    ok13 &= nearest13 >= 0.95;
+    checks.push(check(
+        "O13",
+        "G9 Table 4: each stage's residual at its end within 5 % of its size (line: 5 m); ellipse → double circle: ≥ 95 % on the nearer ring",
+        "every reconfiguration succeeds, no slots".into(),
+        format!("{}; nearer ring {:.0} %", ours13.join(", "), 100.0 * nearest13),
+        ok13,
+    ));
+    notes.push(
+        "O13: the Table 4 ellipse (semi-axes 1 and 0.6 km) lies entirely inside ρ = 1 km, so every \
+         satellite goes to the inner ring of the double circle (0.5 km): 50 satellites on 3.1 km of ring \
+         with s = 0.2 km push each other outward against a ring stiffness of only k_f·μ = 1.5 N/m."
+            .into(),
+    );
+    Ok(Report {
+        title:
+            "Gao, Li & Wei 2022, bifurcating potential field (spec gao-bifurcating-potential §6)"
+                .into(),
+        checks,
+        notes,
+    })
+}

