@@ -46,9 +46,6 @@ pub fn run_scenario(
         path: path.display().to_string(),
         message: e.to_string(),
     };
-    std::fs::create_dir_all(out_dir).map_err(|e| output_error(out_dir, e))?;
-    let mut recorder = CsvRecorder::create(out_dir, prepared.write_trajectory)
-        .map_err(|e| output_error(out_dir, e))?;
     let n = prepared.satellites.len();
     let duration_s = prepared.config.duration_s;
     let seed = prepared.config.seed;
@@ -64,6 +61,14 @@ pub fn run_scenario(
         prepared.law,
         prepared.events,
     )?;
+    // The output directory is created only once the run can start.
+    std::fs::create_dir_all(out_dir).map_err(|e| output_error(out_dir, e))?;
+    let mut recorder = CsvRecorder::create(
+        out_dir,
+        prepared.write_trajectory,
+        &simulation.law_metric_names(),
+    )
+    .map_err(|e| output_error(out_dir, e))?;
     let started = Instant::now();
     let outcome = simulation.run(&mut recorder, progress);
     let wall_time_s = started.elapsed().as_secs_f64();

@@ -572,3 +572,78 @@ fn val_divergence_names_the_satellite_and_the_time() {
         other => panic!("expected divergence, got {other:?}"),
     }
 }
+
+/// A test law with one metric: the recording time it was called at, and how many calls so far.
+struct Clocked(&'static [&'static str], f64);
+
+impl GuidanceLaw for Clocked {
+    fn name(&self) -> &'static str {
+        "clocked"
+    }
+    fn command_m_s2(&self, _s: &SatelliteView<'_>) -> Vector3<f64> {
+        Vector3::zeros()
+    }
+    fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+        Ok(())
+    }
+    fn metric_names(&self) -> &'static [&'static str] {
+        self.0
+    }
+    fn record_metrics(&mut self, swarm: &satflock::swarm::SwarmView<'_>, values: &mut [f64]) {
+        self.1 += 1.0;
+        values[0] = swarm.shared.time_s;
+        values[1] = self.1;
+    }
+}
+
+#[test]
+fn val_law_metrics_are_recorded_in_time_order_across_a_law_switch() {
+    // Law A records every 10 s until the switch at 50 s; law B from then on. The recorder must see A's
+    // names and values (time, call count) before the switch and B's after, and the run must announce
+    // the union of both laws' columns up front.
+    #[derive(Default)]
+    struct Seen(Vec<(f64, &'static [&'static str], Vec<f64>)>);
+    impl Recorder for Seen {
+        fn record(&mut self, s: &Snapshot<'_>) -> std::io::Result<()> {
+            self.0
+                .push((s.time_s, s.law_metric_names, s.law_metrics.to_vec()));
+            Ok(())
+        }
+    }
+    let mut cfg = config(
+        DynamicsModel::Hcw(Hcw::new(n())),
+        ControlTiming::Continuous,
+        100.0,
+    );
+    cfg.record_interval_s = 10.0;
+    let events = vec![Event {
+        time_s: 50.0,
+        action: EventAction::SwitchLaw(Box::new(Clocked(&["b_time_s", "b_calls"], 0.0))),
+    }];
+    let mut sim = Simulation::new(
+        cfg,
+        &satellites(&[state([1.0, 0.0, 0.0], [0.0; 3])]),
+        Box::new(Clocked(&["a_time_s", "a_calls"], 0.0)),
+        events,
+    )
+    .unwrap();
+    assert_eq!(
+        sim.law_metric_names(),
+        vec!["a_time_s", "a_calls", "b_time_s", "b_calls"]
+    );
+    let mut seen = Seen::default();
+    sim.run(&mut seen, &mut |_| {}).unwrap();
+    assert_eq!(seen.0.len(), 11);
+    for (k, (t, names, values)) in seen.0.iter().enumerate() {
+        assert_eq!(*t, 10.0 * k as f64);
+        assert_eq!(values[0], *t);
+        if *t < 50.0 {
+            assert_eq!(names[0], "a_time_s");
+            assert_eq!(values[1], (k + 1) as f64);
+        } else {
+            // the switch happens before the 50 s recording: B's first call is there
+            assert_eq!(names[0], "b_time_s");
+            assert_eq!(values[1], (k - 4) as f64);
+        }
+    }
+}

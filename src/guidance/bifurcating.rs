@@ -354,7 +354,18 @@ pub struct Bifurcating {
     /// Sensing range of the swarm \[m\], known once the law has started (the avoidance radius must not
     /// exceed it: farther neighbours are never sensed).
     sensing_range_m: Option<f64>,
+    /// Time-to-shape bookkeeping across recordings: when the current shape was commanded \[s\] (`None`
+    /// until the first recording after a start or a reconfiguration) and when it was first reached \[s\].
+    shape_commanded_at_s: Option<f64>,
+    shape_reached_at_s: Option<f64>,
 }
+
+/// Metric columns of the law in `metrics.csv`.
+const METRIC_NAMES: &[&str] = &[
+    "shape_max_residual_m",
+    "shape_max_out_of_plane_m",
+    "shape_reached",
+];
 
 impl Bifurcating {
     /// Builds the law, checking the parameters.
@@ -363,7 +374,27 @@ impl Bifurcating {
         Ok(Self {
             parameters,
             sensing_range_m: None,
+            shape_commanded_at_s: None,
+            shape_reached_at_s: None,
         })
+    }
+
+    /// Shape error of the live satellites of a swarm (positions converted to Gao's o-xyz).
+    fn swarm_shape_error(&self, swarm: &SwarmView<'_>) -> ShapeError {
+        let positions: Vec<Vector3<f64>> = swarm
+            .relative_states
+            .iter()
+            .zip(swarm.active)
+            .filter(|(_, a)| **a)
+            .map(|(s, _)| hill_to_gao(&s.position_m))
+            .collect();
+        self.parameters.shape_error(&positions)
+    }
+
+    /// Time from the last shape command (start or reconfiguration) to the first recording at which the
+    /// 5 % criterion held \[s\], if it has been reached.
+    pub fn time_to_shape_s(&self) -> Option<f64> {
+        Some(self.shape_reached_at_s? - self.shape_commanded_at_s?)
     }
 
     /// The current parameters.
@@ -444,7 +475,29 @@ impl GuidanceLaw for Bifurcating {
         merged.check()?;
         self.check_range(&merged)?;
         self.parameters = merged;
+        // A new shape: time-to-shape restarts at the next recording.
+        self.shape_commanded_at_s = None;
+        self.shape_reached_at_s = None;
         Ok(())
+    }
+
+    fn metric_names(&self) -> &'static [&'static str] {
+        METRIC_NAMES
+    }
+
+    /// Shape residual, out-of-plane error and whether the 5 % criterion holds (1 or 0; NaN where the
+    /// shape has no size), and the time-to-shape bookkeeping.
+    fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]) {
+        let error = self.swarm_shape_error(swarm);
+        let now = swarm.shared.time_s;
+        let commanded = *self.shape_commanded_at_s.get_or_insert(now);
+        let reached = error.reached();
+        if reached == Some(true) && self.shape_reached_at_s.is_none() && now >= commanded {
+            self.shape_reached_at_s = Some(now);
+        }
+        values[0] = error.max_residual_m.unwrap_or(f64::NAN);
+        values[1] = error.max_out_of_plane_m;
+        values[2] = reached.map_or(f64::NAN, |r| if r { 1.0 } else { 0.0 });
     }
 
     /// Largest |root| of m s² + k_v s + K = 0, K = the formation stiffness over the occupied region plus
@@ -462,17 +515,16 @@ impl GuidanceLaw for Bifurcating {
     }
 
     /// Final shape error (spec §6): `shape_max_residual_m`, `shape_max_out_of_plane_m`, `shape_size_m`,
-    /// `shape_reached` (5 % criterion) and `shape_max_coordinate_m`, over live satellites.
+    /// `shape_reached` (5 % criterion) and `shape_max_coordinate_m`, over live satellites, and
+    /// `time_to_shape_s` (from the last shape command to the first recording meeting the 5 % criterion;
+    /// null if not reached; resolution = the recording interval).
     fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
-        let positions: Vec<Vector3<f64>> = swarm
-            .relative_states
-            .iter()
-            .zip(swarm.active)
-            .filter(|(_, a)| **a)
-            .map(|(s, _)| hill_to_gao(&s.position_m))
-            .collect();
-        let error = self.parameters.shape_error(&positions);
+        let error = self.swarm_shape_error(swarm);
         let mut out = BTreeMap::new();
+        out.insert(
+            "time_to_shape_s".into(),
+            serde_json::json!(self.time_to_shape_s()),
+        );
         out.insert(
             "shape_max_residual_m".into(),
             serde_json::json!(error.max_residual_m),

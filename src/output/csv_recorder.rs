@@ -1,4 +1,5 @@
-//! A [`Recorder`] that streams snapshots to `metrics.csv` (one row per recording time) and, optionally,
+//! A [`Recorder`] that streams snapshots to `metrics.csv` (one row per recording time, with the law's own
+//! metrics as extra columns after [`METRICS_HEADER`]) and, optionally,
 //! `trajectory.csv` (one row per live satellite per recording time). Each snapshot is flushed as soon as it
 //! is written, so the files are complete, valid CSV up to the last recorded time even if a run stops.
 
@@ -53,15 +54,27 @@ pub const TRAJECTORY_HEADER: &[&str] = &[
 /// Streams snapshots to CSV files in a directory.
 pub struct CsvRecorder {
     metrics: BufWriter<File>,
+    /// Law metric columns, in header order.
+    law_columns: Vec<&'static str>,
     trajectory: Option<BufWriter<File>>,
     line: String,
 }
 
 impl CsvRecorder {
-    /// Creates `dir/metrics.csv` and, if asked, `dir/trajectory.csv`, and writes their headers.
-    pub fn create(dir: &Path, write_trajectory: bool) -> std::io::Result<Self> {
+    /// Creates `dir/metrics.csv` (with the law metric columns `law_columns` after the standard ones) and,
+    /// if asked, `dir/trajectory.csv`, and writes their headers.
+    pub fn create(
+        dir: &Path,
+        write_trajectory: bool,
+        law_columns: &[&'static str],
+    ) -> std::io::Result<Self> {
         let mut metrics = BufWriter::new(File::create(dir.join("metrics.csv"))?);
-        writeln!(metrics, "{}", METRICS_HEADER.join(","))?;
+        let mut header = METRICS_HEADER.join(",");
+        for name in law_columns {
+            header.push(',');
+            header.push_str(name);
+        }
+        writeln!(metrics, "{header}")?;
         metrics.flush()?;
         let trajectory = if write_trajectory {
             let mut t = BufWriter::new(File::create(dir.join("trajectory.csv"))?);
@@ -73,6 +86,7 @@ impl CsvRecorder {
         };
         Ok(Self {
             metrics,
+            law_columns: law_columns.to_vec(),
             trajectory,
             line: String::with_capacity(512),
         })
@@ -125,6 +139,13 @@ impl Recorder for CsvRecorder {
                 line,
                 live.iter().map(|&i| s.delta_v_axes_mps[i][k]).sum::<f64>() / count,
             );
+        }
+        // Law metrics: a value where the running law has the column, empty where it does not.
+        for column in &self.law_columns {
+            match s.law_metric_names.iter().position(|n| n == column) {
+                Some(k) => push(line, s.law_metrics[k]),
+                None => line.push(','),
+            }
         }
         writeln!(self.metrics, "{line}")?;
         self.metrics.flush()?;

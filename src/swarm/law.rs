@@ -173,6 +173,17 @@ pub trait GuidanceLaw: Send + Sync {
         None
     }
 
+    /// Names of the scalar metrics the law reports at every recording time (extra columns of
+    /// `metrics.csv`, each name with its unit). Default: none.
+    fn metric_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Called at every recording time (outside the integrator, in time order) with the truth swarm:
+    /// writes the values of [`GuidanceLaw::metric_names`] into `values` (same order and length). The
+    /// law may keep what it needs across calls (e.g. when a shape was first reached). Default: nothing.
+    fn record_metrics(&mut self, _swarm: &SwarmView<'_>, _values: &mut [f64]) {}
+
     /// Law-specific results for `summary.json`, computed from the final swarm. Default: none.
     fn results(&self, _swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
         BTreeMap::new()

@@ -25,6 +25,10 @@ pub struct Snapshot<'a> {
     pub min_separation_m: f64,
     /// Pairs of live satellites closer than the sum of their radii at this time.
     pub collisions: usize,
+    /// The running law's metric names (see [`crate::swarm::GuidanceLaw::metric_names`]).
+    pub law_metric_names: &'static [&'static str],
+    /// Their values now, in the same order.
+    pub law_metrics: &'a [f64],
 }
 
 /// A consumer of snapshots (CSV writers, in-memory collectors for tests, Python callbacks).

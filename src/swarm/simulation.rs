@@ -824,6 +824,27 @@ impl Simulation {
         Ok(())
     }
 
+    /// Every law metric name this run can record: the running law's, then those of the laws that events
+    /// switch in, without repeats (the columns a recorder must prepare).
+    pub fn law_metric_names(&self) -> Vec<&'static str> {
+        let mut names: Vec<&'static str> = Vec::new();
+        let laws =
+            std::iter::once(self.law.as_ref()).chain(self.events.iter().rev().filter_map(|e| {
+                match &e.action {
+                    EventAction::SwitchLaw(law) => Some(law.as_ref()),
+                    _ => None,
+                }
+            }));
+        for law in laws {
+            for name in law.metric_names() {
+                if !names.contains(name) {
+                    names.push(name);
+                }
+            }
+        }
+        names
+    }
+
     /// The law's results for the summary, from the current (final) swarm.
     pub fn law_results(&mut self) -> BTreeMap<String, serde_json::Value> {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
@@ -1148,6 +1169,13 @@ impl Simulation {
             buffers,
         );
         self.totals.final_five_elements = elements;
+        let law_metric_names = self.law.metric_names();
+        let mut law_metrics = vec![0.0; law_metric_names.len()];
+        if !law_metrics.is_empty() {
+            let plant = Plant::new(&self.config, &self.fleet, self.threat_warning_active);
+            let (view, _) = plant.view(self.time_s, data, sensed, false);
+            self.law.record_metrics(&view, &mut law_metrics);
+        }
         let snapshot = Snapshot {
             time_s: self.time_s,
             relative_states: &sensed.relative,
@@ -1158,6 +1186,8 @@ impl Simulation {
             five_elements: elements,
             min_separation_m: min_sep,
             collisions,
+            law_metric_names,
+            law_metrics: &law_metrics,
         };
         recorder.record(&snapshot)?;
         Ok(())
