@@ -8,9 +8,11 @@
 //! | --- | --- | --- |
 //! | `none` | [`free_drift`] | no control: free drift under the truth dynamics |
 //! | `hold` | [`hold`] | PD hold of each satellite's slot (its relative position when the law starts) |
+//! | `j2-distance` | [`j2_distance`] | Takahashi–Sakai distance-based stabiliser under J2 (main or opposing), with centralised DT grouping |
 
 pub mod free_drift;
 pub mod hold;
+pub mod j2_distance;
 pub mod parameters;
 
 use serde::{Deserialize, Serialize};
@@ -26,17 +28,20 @@ pub enum LawConfig {
     None(free_drift::FreeDriftParameters),
     /// PD slot hold.
     Hold(hold::HoldParameters),
+    /// Takahashi–Sakai distance-based stabiliser under J2.
+    J2Distance(j2_distance::J2DistanceParameters),
 }
 
 impl LawConfig {
     /// Registry names of every law, for error messages and `satflock scenarios`.
-    pub const NAMES: &'static [&'static str] = &["none", "hold"];
+    pub const NAMES: &'static [&'static str] = &["none", "hold", "j2-distance"];
 
     /// Builds the law, checking its parameters.
     pub fn build(&self) -> Result<Box<dyn GuidanceLaw>, LawError> {
         Ok(match self {
             LawConfig::None(_) => Box::new(free_drift::FreeDrift),
             LawConfig::Hold(p) => Box::new(hold::Hold::new(p.clone())?),
+            LawConfig::J2Distance(p) => Box::new(j2_distance::J2Distance::new(p.clone())?),
         })
     }
 }
