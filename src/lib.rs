@@ -17,6 +17,7 @@
 //! | [`output`] | streamed CSV recorder and the JSON run summary |
 //! | [`propagate`] | propagation of single orbits with outputs at exact times (`satflock propagate`) |
 //! | [`run`] | a scenario end to end: validate, simulate, write the outputs (`satflock run`) |
+//! | [`validate`] | full-length reproductions against papers and analytic references (`satflock validate`) |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![forbid(unsafe_code)]
@@ -31,3 +32,4 @@ pub mod relative;
 pub mod run;
 pub mod scenario;
 pub mod swarm;
+pub mod validate;

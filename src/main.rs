@@ -56,6 +56,19 @@ enum Command {
     },
     /// Propagate one orbit (no control) and write its states to CSV.
     Propagate(PropagateArgs),
+    /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
+    /// as a Markdown table. Targets: see `satflock validate --list`.
+    Validate {
+        /// Target name (e.g. `core`).
+        #[arg(required_unless_present = "list")]
+        target: Option<String>,
+        /// List the targets.
+        #[arg(long)]
+        list: bool,
+        /// Print JSON instead of Markdown.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -175,6 +188,7 @@ fn main() -> ExitCode {
         }
         Command::Characterize { positions } => characterize(&positions),
         Command::Propagate(args) => propagate_command(&args),
+        Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -217,9 +231,11 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
         );
         bar
     };
+    let started = std::time::Instant::now();
     let mut progress = |t_s: f64| {
         bar.set_position((t_s * 1000.0).round() as u64);
-        bar.set_message(format!("t = {t_s:.0} s"));
+        let rate = t_s / started.elapsed().as_secs_f64().max(1e-9);
+        bar.set_message(format!("t = {t_s:.0} s ({rate:.1} sim-s/s)"));
     };
     let outcome = pool.install(|| run_scenario(&scenario, out, &mut progress));
     bar.finish_and_clear();
@@ -241,6 +257,26 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
         Err(RunError::Scenario(e)) => Err(usage(e.to_string())),
         Err(e) => Err(e.into()),
     }
+}
+
+fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {
+    if list {
+        for (name, what) in satflock::validate::TARGETS {
+            println!("{name:<12} {what}");
+        }
+        return Ok(());
+    }
+    let target = target.unwrap_or_default();
+    let report = satflock::validate::run(target).map_err(|e| match e {
+        satflock::validate::ValidateError::UnknownTarget { .. } => usage(e.to_string()),
+        other => anyhow::Error::from(other),
+    })?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{}", report.to_markdown());
+    }
+    Ok(())
 }
 
 fn scenarios() {

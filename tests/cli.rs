@@ -302,3 +302,22 @@ fn val_scenarios_lists_every_builtin() {
         assert!(text.contains(name));
     }
 }
+
+#[test]
+fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
+    let output = satflock().args(["validate", "core"]).output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(text.contains("| id | outcome | reference | ours | verdict |"));
+    // one row per check C1..C8, each with a verdict
+    for id in ["C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8"] {
+        assert!(text.contains(&format!("| {id} |")), "{id} missing");
+    }
+    let output = satflock().args(["validate", "nothing"]).output().unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("core"));
+}

@@ -227,21 +227,42 @@ impl Scratch {
     }
 }
 
-/// The parts of the simulation that the right-hand side reads (everything but the state).
+/// Per-satellite properties that change only through events, as structure-of-arrays.
+struct Fleet {
+    masses_kg: Vec<f64>,
+    radii_m: Vec<f64>,
+    actuators: Vec<Actuator>,
+    /// `false` once a satellite is removed.
+    active: Vec<bool>,
+    /// `false` while a satellite's links are cut.
+    links_up: Vec<bool>,
+}
+
+/// What the right-hand side reads besides the state and the law.
 struct Plant<'a> {
     config: &'a SimulationConfig,
-    masses_kg: &'a [f64],
-    actuators: &'a [Actuator],
-    active: &'a [bool],
-    links_up: &'a [bool],
-    law: &'a dyn GuidanceLaw,
+    fleet: &'a Fleet,
     threat_warning_active: bool,
     reference_model: SchweighartSedwick,
 }
 
-impl Plant<'_> {
+impl<'a> Plant<'a> {
+    fn new(
+        config: &'a SimulationConfig,
+        fleet: &'a Fleet,
+        threat_warning_active: bool,
+        reference_model: SchweighartSedwick,
+    ) -> Self {
+        Self {
+            config,
+            fleet,
+            threat_warning_active,
+            reference_model,
+        }
+    }
+
     fn n(&self) -> usize {
-        self.masses_kg.len()
+        self.fleet.masses_kg.len()
     }
 
     /// The LVLH frame of the origin for a flat state (inertial models only).
@@ -336,9 +357,9 @@ impl Plant<'_> {
         let _ = grid.build(x, y, z, sensing.range_m);
         let view = SwarmView {
             relative_states: relative,
-            masses_kg: self.masses_kg,
-            active: self.active,
-            links_up: self.links_up,
+            masses_kg: &self.fleet.masses_kg,
+            active: &self.fleet.active,
+            links_up: &self.fleet.links_up,
             grid,
             shared: SharedInfo {
                 time_s,
@@ -355,6 +376,7 @@ impl Plant<'_> {
     /// leaves the applied accelerations (Hill frame) in `applied_hill`. Returns the LVLH frame used.
     fn commands(
         &self,
+        law: &dyn GuidanceLaw,
         time_s: f64,
         data: &[f64],
         sensed: &mut Sensed,
@@ -366,9 +388,9 @@ impl Plant<'_> {
             .with_min_len(CHUNK)
             .enumerate()
             .for_each(|(i, applied)| {
-                *applied = if self.active[i] {
-                    let command = self.law.command_m_s2(&view.satellite(i));
-                    self.actuators[i].apply(&command)
+                *applied = if self.fleet.active[i] {
+                    let command = law.command_m_s2(&view.satellite(i));
+                    self.fleet.actuators[i].apply(&command)
                 } else {
                     Vector3::zeros()
                 };
@@ -380,6 +402,7 @@ impl Plant<'_> {
 /// The coupled swarm as one ODE (continuous control timing).
 struct CoupledSwarm<'a> {
     plant: Plant<'a>,
+    law: &'a dyn GuidanceLaw,
     scratch: &'a Mutex<Scratch>,
 }
 
@@ -405,13 +428,13 @@ impl OdeSystem for CoupledSwarm<'_> {
             per_satellite,
             ..
         } = scratch;
-        let frame = plant.commands(t_s, state, sensed, applied_hill);
+        let frame = plant.commands(self.law, t_s, state, sensed, applied_hill);
         per_satellite
             .par_iter_mut()
             .with_min_len(CHUNK)
             .enumerate()
             .for_each(|(i, d)| {
-                if !plant.active[i] {
+                if !plant.fleet.active[i] {
                     *d = [0.0; SOLO];
                     return;
                 }
@@ -526,11 +549,7 @@ pub struct Simulation {
     config: SimulationConfig,
     state: SwarmState,
     time_s: f64,
-    masses_kg: Vec<f64>,
-    radii_m: Vec<f64>,
-    actuators: Vec<Actuator>,
-    active: Vec<bool>,
-    links_up: Vec<bool>,
+    fleet: Fleet,
     law: Box<dyn GuidanceLaw>,
     /// Pending events, latest first (popped from the back).
     events: Vec<Event>,
@@ -642,11 +661,13 @@ impl Simulation {
             solo_steppers,
             state,
             time_s: 0.0,
-            masses_kg: satellites.iter().map(|s| s.mass_kg).collect(),
-            radii_m: satellites.iter().map(|s| s.radius_m).collect(),
-            actuators: satellites.iter().map(|s| s.actuator).collect(),
-            active: vec![true; n],
-            links_up: vec![true; n],
+            fleet: Fleet {
+                masses_kg: satellites.iter().map(|s| s.mass_kg).collect(),
+                radii_m: satellites.iter().map(|s| s.radius_m).collect(),
+                actuators: satellites.iter().map(|s| s.actuator).collect(),
+                active: vec![true; n],
+                links_up: vec![true; n],
+            },
             law,
             events,
             threat_warning_active: false,
@@ -675,7 +696,12 @@ impl Simulation {
     /// RK4 is stable for h·k ≤ 2.78 and a zero-order hold for T·k < 2 (first-order damping). We require
     /// a margin of two on both, so that the run is accurate, not merely bounded.
     fn check_rates(&self, law: &dyn GuidanceLaw) -> Result<(), SimError> {
-        let min_mass = self.masses_kg.iter().copied().fold(f64::INFINITY, f64::min);
+        let min_mass = self
+            .fleet
+            .masses_kg
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
         let Some(rate) = law.fastest_rate_per_s(min_mass) else {
             return Ok(());
         };
@@ -722,7 +748,7 @@ impl Simulation {
 
     /// Which satellites are live.
     pub fn active(&self) -> &[bool] {
-        &self.active
+        &self.fleet.active
     }
 
     /// The running law.
@@ -731,16 +757,12 @@ impl Simulation {
     }
 
     fn plant(&self) -> Plant<'_> {
-        Plant {
-            config: &self.config,
-            masses_kg: &self.masses_kg,
-            actuators: &self.actuators,
-            active: &self.active,
-            links_up: &self.links_up,
-            law: self.law.as_ref(),
-            threat_warning_active: self.threat_warning_active,
-            reference_model: self.reference_model,
-        }
+        Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        )
     }
 
     /// Base step: the control period in sampled mode, the integration step in continuous mode \[s\].
@@ -808,25 +830,20 @@ impl Simulation {
     }
 
     fn initialise_law(&mut self) -> Result<(), SimError> {
-        let law = &mut self.law;
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant {
-            config: &self.config,
-            masses_kg: &self.masses_kg,
-            actuators: &self.actuators,
-            active: &self.active,
-            links_up: &self.links_up,
-            law: &crate::guidance::free_drift::FreeDrift,
-            threat_warning_active: self.threat_warning_active,
-            reference_model: self.reference_model,
-        };
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let (view, _) = plant.view(
             self.time_s,
             self.state.as_slice(),
             &mut scratch.sensed,
             false,
         );
-        law.initialise(&view)?;
+        self.law.initialise(&view)?;
         Ok(())
     }
 
@@ -834,16 +851,12 @@ impl Simulation {
     /// centralised step is modelled as having the ground's precise orbit determination).
     fn centralised_update(&mut self, time_s: f64) -> Result<(), SimError> {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant {
-            config: &self.config,
-            masses_kg: &self.masses_kg,
-            actuators: &self.actuators,
-            active: &self.active,
-            links_up: &self.links_up,
-            law: &crate::guidance::free_drift::FreeDrift,
-            threat_warning_active: self.threat_warning_active,
-            reference_model: self.reference_model,
-        };
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let (view, _) = plant.view(time_s, self.state.as_slice(), &mut scratch.sensed, false);
         self.law.centralised_update(&view)?;
         Ok(())
@@ -852,16 +865,12 @@ impl Simulation {
     /// The law's results for the summary, from the current (final) swarm.
     pub fn law_results(&mut self) -> BTreeMap<String, serde_json::Value> {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant {
-            config: &self.config,
-            masses_kg: &self.masses_kg,
-            actuators: &self.actuators,
-            active: &self.active,
-            links_up: &self.links_up,
-            law: self.law.as_ref(),
-            threat_warning_active: self.threat_warning_active,
-            reference_model: self.reference_model,
-        };
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let (view, _) = plant.view(
             self.time_s,
             self.state.as_slice(),
@@ -914,7 +923,7 @@ impl Simulation {
         if at_tick {
             self.draw_noise();
             self.step_index += 1;
-            let live = self.active.iter().filter(|a| **a).count() as u64;
+            let live = self.fleet.active.iter().filter(|a| **a).count() as u64;
             self.totals.satellite_steps += live;
         }
         match self.config.control {
@@ -929,18 +938,15 @@ impl Simulation {
     }
 
     fn advance_coupled(&mut self, t0: f64, t1: f64) -> Result<(), SimError> {
-        let plant = Plant {
-            config: &self.config,
-            masses_kg: &self.masses_kg,
-            actuators: &self.actuators,
-            active: &self.active,
-            links_up: &self.links_up,
-            law: self.law.as_ref(),
-            threat_warning_active: self.threat_warning_active,
-            reference_model: self.reference_model,
-        };
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let system = CoupledSwarm {
             plant,
+            law: self.law.as_ref(),
             scratch: &self.scratch,
         };
         self.coupled_stepper.advance(
@@ -962,7 +968,13 @@ impl Simulation {
             applied_hill,
             ..
         } = &mut *guard;
-        let frame = plant.commands(t0, self.state.as_slice(), sensed, applied_hill);
+        let frame = plant.commands(
+            self.law.as_ref(),
+            t0,
+            self.state.as_slice(),
+            sensed,
+            applied_hill,
+        );
         for ((held, hill), u) in self
             .held_control
             .iter_mut()
@@ -997,14 +1009,14 @@ impl Simulation {
         gather(data, n, &mut scratch.per_satellite);
         let held = &self.held_control;
         let held_hill = &self.held_hill;
-        let active = &self.active;
+        let active = &self.fleet.active;
         let dynamics = config.dynamics;
-        let failures: Vec<Result<(), IntegrateError>> = scratch
+        scratch
             .per_satellite
             .par_chunks_mut(CHUNK)
             .zip(self.solo_steppers.par_iter_mut())
             .enumerate()
-            .map(|(c, (blocks, stepper))| {
+            .try_for_each(|(c, (blocks, stepper))| -> Result<(), IntegrateError> {
                 for (offset, block) in blocks.iter_mut().enumerate() {
                     let i = c * CHUNK + offset;
                     if !active[i] {
@@ -1026,11 +1038,7 @@ impl Simulation {
                     stepper.advance(&rhs, t0, t1, block, max_step)?;
                 }
                 Ok(())
-            })
-            .collect();
-        for result in failures {
-            result?;
-        }
+            })?;
         scatter(&scratch.per_satellite, n, data);
         Ok(())
     }
@@ -1041,7 +1049,7 @@ impl Simulation {
         self.plant().relative_states(self.state.as_slice(), sensed);
         let bound = self.config.max_distance_m;
         for (i, rel) in sensed.relative.iter().enumerate() {
-            if !self.active[i] {
+            if !self.fleet.active[i] {
                 continue;
             }
             let finite = rel.position_m.iter().all(|v| v.is_finite())
@@ -1072,8 +1080,8 @@ impl Simulation {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
         let sep = live_separation(
             &scratch.sensed.relative,
-            &self.active,
-            &self.radii_m,
+            &self.fleet.active,
+            &self.fleet.radii_m,
             &mut scratch.live,
         );
         self.totals.min_separation_m = self.totals.min_separation_m.min(sep.0);
@@ -1101,22 +1109,22 @@ impl Simulation {
                 }
                 EventAction::ThreatWarning { active } => self.threat_warning_active = active,
                 EventAction::CutLinks(selection) => {
-                    for (i, up) in self.links_up.iter_mut().enumerate() {
+                    for (i, up) in self.fleet.links_up.iter_mut().enumerate() {
                         if selection.contains(i) {
                             *up = false;
                         }
                     }
                 }
                 EventAction::RestoreLinks(selection) => {
-                    for (i, up) in self.links_up.iter_mut().enumerate() {
+                    for (i, up) in self.fleet.links_up.iter_mut().enumerate() {
                         if selection.contains(i) {
                             *up = true;
                         }
                     }
                 }
-                EventAction::RemoveSatellite(i) => self.active[i] = false,
+                EventAction::RemoveSatellite(i) => self.fleet.active[i] = false,
                 EventAction::FailThruster { satellite, axis } => {
-                    let axes = &mut self.actuators[satellite].working_axes;
+                    let axes = &mut self.fleet.actuators[satellite].working_axes;
                     match axis {
                         ThrustAxis::X => axes[0] = false,
                         ThrustAxis::Y => axes[1] = false,
@@ -1163,7 +1171,7 @@ impl Simulation {
         let ledgers: Vec<([f64; 3], f64)> = (0..n).map(|i| self.state.ledger(i)).collect();
         let axes: Vec<[f64; 3]> = ledgers.iter().map(|l| l.0).collect();
         let norms: Vec<f64> = ledgers.iter().map(|l| l.1).collect();
-        let live: Vec<usize> = (0..n).filter(|&i| self.active[i]).collect();
+        let live: Vec<usize> = (0..n).filter(|&i| self.fleet.active[i]).collect();
         let elements = if live.len() >= 2 {
             let positions: Vec<[f64; 3]> = live
                 .iter()
@@ -1173,7 +1181,7 @@ impl Simulation {
                 .iter()
                 .map(|&i| inertial[i].velocity_mps.into())
                 .collect();
-            let radii: Vec<f64> = live.iter().map(|&i| self.radii_m[i]).collect();
+            let radii: Vec<f64> = live.iter().map(|&i| self.fleet.radii_m[i]).collect();
             five_elements(
                 &positions,
                 &velocities,
@@ -1184,14 +1192,18 @@ impl Simulation {
         } else {
             None
         };
-        let (min_sep, collisions) =
-            live_separation(&sensed.relative, &self.active, &self.radii_m, buffers);
+        let (min_sep, collisions) = live_separation(
+            &sensed.relative,
+            &self.fleet.active,
+            &self.fleet.radii_m,
+            buffers,
+        );
         self.totals.final_five_elements = elements;
         let snapshot = Snapshot {
             time_s: self.time_s,
             relative_states: &sensed.relative,
             inertial_states: &inertial,
-            active: &self.active,
+            active: &self.fleet.active,
             delta_v_axes_mps: &axes,
             delta_v_mps: &norms,
             five_elements: elements,

@@ -1,0 +1,121 @@
+//! Reproduction reports: each target runs a set of checks at full length (longer than the test suite
+//! affords) and reports, for every outcome, the reference value (a paper's, or an analytic one), ours,
+//! and a verdict. `satflock validate TARGET` prints the report as a Markdown table for the README.
+
+pub mod core;
+
+use std::fmt;
+
+use thiserror::Error;
+
+/// How our value compares with the reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// Within the stated tolerance.
+    Reproduced,
+    /// Outside the tolerance, with the difference explained in the report.
+    Differs,
+    /// Cannot be reproduced from what the source gives (explained in the report).
+    NotReproduced,
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Verdict::Reproduced => "reproduced",
+            Verdict::Differs => "differs",
+            Verdict::NotReproduced => "not reproduced",
+        })
+    }
+}
+
+/// One reproduced outcome.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Check {
+    /// Short identifier (e.g. `O3`, `T5`).
+    pub id: String,
+    /// What is compared, with the tolerance.
+    pub outcome: String,
+    /// The reference value (paper or analytic), as text with units.
+    pub paper: String,
+    /// Our value, as text with units.
+    pub ours: String,
+    /// Verdict.
+    pub verdict: Verdict,
+}
+
+/// A report: a titled list of checks and notes.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Report {
+    /// Title (the source being reproduced).
+    pub title: String,
+    /// The checks, in order.
+    pub checks: Vec<Check>,
+    /// Remarks printed under the table (what differs and why).
+    pub notes: Vec<String>,
+}
+
+impl Report {
+    /// The report as Markdown: a heading, a table `id | outcome | reference | ours | verdict`, notes.
+    pub fn to_markdown(&self) -> String {
+        let cell = |s: &str| s.replace('|', "\\|").replace('\n', " ");
+        let mut out = format!(
+            "### {}\n\n| id | outcome | reference | ours | verdict |\n| --- | --- | --- | --- | --- |\n",
+            self.title
+        );
+        for c in &self.checks {
+            out.push_str(&format!(
+                "| {} | {} | {} | {} | {} |\n",
+                cell(&c.id),
+                cell(&c.outcome),
+                cell(&c.paper),
+                cell(&c.ours),
+                c.verdict
+            ));
+        }
+        for note in &self.notes {
+            out.push_str(&format!("\n{note}\n"));
+        }
+        out
+    }
+}
+
+/// A target that could not run.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum ValidateError {
+    /// No target of that name.
+    #[error("no validation target `{name}` (allowed: {allowed})")]
+    UnknownTarget {
+        /// What was asked for.
+        name: String,
+        /// The target names.
+        allowed: String,
+    },
+    /// A reproduction failed to run.
+    #[error("validation `{target}` failed: {message}")]
+    Failed {
+        /// The target.
+        target: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// The validation targets: name and what they reproduce.
+pub const TARGETS: &[(&str, &str)] = &[(
+    "core",
+    "orbital mechanics and relative motion: J2 secular rates, integrator accuracy, HCW and SS vs truth",
+)];
+
+/// Runs one target.
+pub fn run(target: &str) -> Result<Report, ValidateError> {
+    match target {
+        "core" => core::report(),
+        _ => Err(ValidateError::UnknownTarget {
+            name: target.to_string(),
+            allowed: TARGETS.iter().map(|t| t.0).collect::<Vec<_>>().join(", "),
+        }),
+    }
+}
