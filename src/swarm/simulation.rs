@@ -751,6 +751,12 @@ impl Simulation {
         &self.fleet.active
     }
 
+    /// The Schweighart–Sedwick model of the reference orbit at t = 0 that laws get
+    /// ([`SharedInfo::reference_model`]).
+    pub fn reference_model(&self) -> SchweighartSedwick {
+        self.reference_model
+    }
+
     /// The running law.
     pub fn law(&self) -> &dyn GuidanceLaw {
         self.law.as_ref()

@@ -3,6 +3,7 @@
 //! and a verdict. `satflock validate TARGET` prints the report as a Markdown table for the README.
 
 pub mod core;
+pub mod takahashi;
 
 use std::fmt;
 
@@ -104,15 +105,22 @@ pub enum ValidateError {
 }
 
 /// The validation targets: name and what they reproduce.
-pub const TARGETS: &[(&str, &str)] = &[(
-    "core",
-    "orbital mechanics and relative motion: J2 secular rates, integrator accuracy, HCW and SS vs truth",
-)];
+pub const TARGETS: &[(&str, &str)] = &[
+    (
+        "core",
+        "orbital mechanics and relative motion: J2 secular rates, integrator accuracy, HCW and SS vs truth",
+    ),
+    (
+        "takahashi",
+        "Takahashi & Sakai distance-based stabiliser under J2: §4.1 comparison, §4.2 planes, outages",
+    ),
+];
 
 /// Runs one target.
 pub fn run(target: &str) -> Result<Report, ValidateError> {
     match target {
         "core" => core::report(),
+        "takahashi" => takahashi::report(),
         _ => Err(ValidateError::UnknownTarget {
             name: target.to_string(),
             allowed: TARGETS.iter().map(|t| t.0).collect::<Vec<_>>().join(", "),

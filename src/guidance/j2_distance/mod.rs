@@ -702,7 +702,8 @@ impl GuidanceLaw for J2Distance {
 
     /// Relative to the LVLH origin (the reference satellite S/C_ref): max |C₁|, max |C₄| \[m\], measured
     /// plane angles over satellites with r_xy > 0.05 m \[deg\], min T̂_conn \[h\]; per edge r_xy/r_xyd
-    /// percentiles; the fraction of live satellites saturated now; grouping statistics and gains.
+    /// percentiles; the fraction of live satellites saturated now; the edge list; grouping statistics
+    /// and gains.
     fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
         let mut out = BTreeMap::new();
         let Some(d) = &self.derived else {
@@ -780,6 +781,7 @@ impl GuidanceLaw for J2Distance {
             json(saturated as f64 / live.len().max(1) as f64),
         );
         out.insert("edges".into(), serde_json::json!(self.network.edges.len()));
+        out.insert("edge_list".into(), serde_json::json!(self.network.edges));
         out.insert("target_amplitude_m".into(), json(d.target_amplitude_m));
         out.insert(
             "grouping".into(),
