@@ -426,6 +426,13 @@ fn val_command_matches_hand_computation() {
             mean_motion_rad_s: 1.08e-3,
             threat_warning_active: false,
             sensing_range_m: 200.0,
+            reference_model: satflock::relative::SchweighartSedwick::new(
+                6_978_137.0,
+                1.7,
+                3.986004418e14,
+                6_378_137.0,
+                1.08262668e-3,
+            ),
         },
     };
     let u: Vec<Vector3<f64>> = (0..4)

@@ -573,6 +573,58 @@ fn val_divergence_names_the_satellite_and_the_time() {
     }
 }
 
+/// A test law with a centralised step every 10 s: it commands, to everyone, the number of live
+/// satellites it counted at its last centralised step (times 1e-6 m/s² along x).
+struct CentralisedCounter {
+    live_count: usize,
+}
+
+impl GuidanceLaw for CentralisedCounter {
+    fn name(&self) -> &'static str {
+        "centralised-counter"
+    }
+    fn centralised_due(&self, time_s: f64) -> bool {
+        (time_s / 10.0 - (time_s / 10.0).round()).abs() < 1e-9
+    }
+    fn centralised_update(
+        &mut self,
+        swarm: &satflock::swarm::SwarmView<'_>,
+    ) -> Result<(), LawError> {
+        self.live_count = swarm.active.iter().filter(|a| **a).count();
+        Ok(())
+    }
+    fn command_m_s2(&self, _s: &SatelliteView<'_>) -> Vector3<f64> {
+        Vector3::new(1e-6 * self.live_count as f64, 0.0, 0.0)
+    }
+    fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+        Ok(())
+    }
+}
+
+#[test]
+fn regress_centralised_step_runs_on_its_schedule_in_both_modes() {
+    let states = [state([0.0; 3], [0.0; 3]), state([10.0, 0.0, 0.0], [0.0; 3])];
+    for control in [
+        ControlTiming::Sampled { period_s: 1.0 },
+        ControlTiming::Continuous,
+    ] {
+        let mut cfg = config(DynamicsModel::Hcw(Hcw::new(n())), control, 35.0);
+        cfg.record_interval_s = 5.0;
+        let law = CentralisedCounter { live_count: 0 };
+        let events = vec![Event {
+            time_s: 15.0,
+            action: EventAction::RemoveSatellite(1),
+        }];
+        let mut sim = Simulation::new(cfg, &satellites(&states), Box::new(law), events).unwrap();
+        sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
+        // satellite 0 was commanded 2e-6 m/s² for t in [0, 20) and 1e-6 m/s² for [20, 35): the count is
+        // refreshed at 20 s, not at the removal (15 s). Delta-v = 2e-6·20 + 1e-6·15 = 5.5e-5 m/s.
+        let dv = sim.state().ledger(0).1;
+        // the ledger integrates a piecewise-constant norm exactly with RK4: rounding only
+        assert!((dv - 5.5e-5).abs() < 1e-15, "{control:?}: delta-v {dv}");
+    }
+}
+
 /// A test law with one metric: the recording time it was called at, and how many calls so far.
 struct Clocked(&'static [&'static str], f64);
 

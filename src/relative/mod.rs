@@ -16,6 +16,7 @@
 //! | type | model | reference orbit |
 //! | --- | --- | --- |
 //! | [`Hcw`] | Hill–Clohessy–Wiltshire equations, closed-form state transition matrix and exact zero-order-hold input matrix | circular Keplerian, mean motion `n` |
+//! | [`j2_averaged`] | averaged-J2 relative orbital parameters C₁…C₆ of Takahashi & Sakai on the SS model (spec §2.4–5.7): parameter maps, their dynamics, connectable time, swarm plane | as SS |
 //! | [`SchweighartSedwick`] | J2-linearised relative motion of Schweighart & Sedwick (2002), spec §2.3 (Eq. 4) in physical coordinates, constants of spec §1.3, closed-form free motion of spec §2.4 (Eq. 5) | the SS artificial circular orbit, radius `r_ref`, inclination `i_ref` |
 //!
 //! Both models are linear and time-invariant, so each offers its continuous-time derivative (for
@@ -27,6 +28,7 @@
 //! integrator as `n → 0`).
 
 mod hcw;
+pub mod j2_averaged;
 mod schweighart_sedwick;
 mod series;
 

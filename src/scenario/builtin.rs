@@ -79,6 +79,34 @@ pub const BUILTINS: &[Builtin] = &[
         name: "gao-reconfiguration",
         toml: include_str!("../../scenarios/gao-reconfiguration.toml"),
     },
+    Builtin {
+        name: "ts-connectable-large",
+        toml: include_str!("../../scenarios/ts-connectable-large.toml"),
+    },
+    Builtin {
+        name: "ts-connectable-large-opp",
+        toml: include_str!("../../scenarios/ts-connectable-large-opp.toml"),
+    },
+    Builtin {
+        name: "ts-connectable-small",
+        toml: include_str!("../../scenarios/ts-connectable-small.toml"),
+    },
+    Builtin {
+        name: "ts-connectable-small-opp",
+        toml: include_str!("../../scenarios/ts-connectable-small-opp.toml"),
+    },
+    Builtin {
+        name: "ts-plane-1",
+        toml: include_str!("../../scenarios/ts-plane-1.toml"),
+    },
+    Builtin {
+        name: "ts-plane-2",
+        toml: include_str!("../../scenarios/ts-plane-2.toml"),
+    },
+    Builtin {
+        name: "ts-outage",
+        toml: include_str!("../../scenarios/ts-outage.toml"),
+    },
 ];
 
 /// The built-in scenario of that name.

@@ -7,6 +7,7 @@ use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 
 use crate::orbit::RelativeStateHill;
+use crate::relative::j2_averaged::{AveragedJ2, OrbitParameters};
 use crate::scenario::schema::InitialVelocity;
 
 /// Stream family of the initial-state draws (distinct from the navigation-noise family).
@@ -113,6 +114,47 @@ pub fn with_velocity(
                     Vector3::new(0.0, -2.0 * mean_motion_rad_s * p.x, 0.0)
                 }
             },
+        })
+        .collect()
+}
+
+/// Relative states from averaged-J2 parameters drawn uniformly per satellite (Takahashi–Sakai spec §10.1):
+/// C₁ in ±`c1_max_m`, C₄ in ±`c4_max_m`, C₂, C₃, C₅, C₆ in ±`amplitude_max_m` \[m\], converted with
+/// `model` (spec §3.2). Satellite `origin` (if any) gets C = 0. One stream per satellite.
+pub fn averaged_j2(
+    seed: u64,
+    count: usize,
+    model: &AveragedJ2,
+    c1_max_m: f64,
+    c4_max_m: f64,
+    amplitude_max_m: f64,
+    origin: Option<usize>,
+) -> Vec<RelativeStateHill> {
+    (0..count)
+        .map(|i| {
+            if origin == Some(i) {
+                return RelativeStateHill::default();
+            }
+            let mut rng = satellite_rng(seed, i);
+            let mut draw = |bound: f64| bound * rng.random_range(-1.0..1.0);
+            let c1_m = draw(c1_max_m);
+            let c2_m = draw(amplitude_max_m);
+            let c3_m = draw(amplitude_max_m);
+            let c4_m = draw(c4_max_m);
+            let c5_m = draw(amplitude_max_m);
+            let c6_m = draw(amplitude_max_m);
+            let x = model.state(&OrbitParameters {
+                c1_m,
+                c2_m,
+                c3_m,
+                c4_m,
+                c5_m,
+                c6_m,
+            });
+            RelativeStateHill {
+                position_m: Vector3::new(x[0], x[1], x[2]),
+                velocity_mps: Vector3::new(x[3], x[4], x[5]),
+            }
         })
         .collect()
 }

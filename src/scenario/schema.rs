@@ -277,6 +277,18 @@ pub enum InitialSection {
         #[serde(default)]
         velocity: InitialVelocity,
     },
+    /// Averaged-J2 relative orbital parameters C₁…C₆ (Takahashi–Sakai spec §3, §10.1), drawn
+    /// independently and uniformly per satellite: |C₁| ≤ `c1_max_m`, |C₄| ≤ `c4_max_m`, and C₂, C₃, C₅, C₆
+    /// within ±`amplitude_max_m`; converted to Hill states with the Schweighart–Sedwick model of the
+    /// reference orbit (spec §3.2). The member origin (if any) sits at C = 0 (the reference satellite).
+    AveragedJ2 {
+        /// Bound of |C₁| \[m\].
+        c1_max_m: f64,
+        /// Bound of |C₄| \[m\].
+        c4_max_m: f64,
+        /// Bound of |C₂|, |C₃|, |C₅|, |C₆| \[m\].
+        amplitude_max_m: f64,
+    },
     /// An explicit list of states [x, y, z, vx, vy, vz] in m and m/s.
     List {
         /// Frame of the listed states (default `hill`).

@@ -222,7 +222,35 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         Some(a) => c.positive("satellites.max_accel_mps2", a)?,
         None => f64::INFINITY,
     };
-    let states = initial_states(&c, scenario, count, mean_motion_rad_s)?;
+    // SS model of the reference orbit at t = 0 (as the engine gives laws): for averaged-J2 draws.
+    let reference_model = match dynamics {
+        DynamicsModel::J2Linear(model) => model,
+        _ => {
+            let h = reference.specific_angular_momentum_m2_s();
+            let j2 = match dynamics {
+                DynamicsModel::Inertial(GravityModel::J2) => earth.j2,
+                _ => 0.0,
+            };
+            SchweighartSedwick::new(
+                reference.position_m.norm(),
+                (h.z / h.norm()).acos(),
+                earth.mu_m3_s2,
+                earth.equatorial_radius_m,
+                j2,
+            )
+        }
+    };
+    let origin_member = match origin {
+        Origin::Member(k) => Some(k),
+        Origin::VirtualReference => None,
+    };
+    let states = initial_states(
+        &c,
+        scenario,
+        count,
+        mean_motion_rad_s,
+        (&reference_model, origin_member),
+    )?;
     let mut satellites: Vec<SatelliteInit> = states
         .into_iter()
         .map(|relative_state| SatelliteInit {
@@ -405,6 +433,7 @@ fn initial_states(
     scenario: &Scenario,
     count: usize,
     mean_motion_rad_s: f64,
+    (reference_model, origin_member): (&SchweighartSedwick, Option<usize>),
 ) -> Result<Vec<RelativeStateHill>, ScenarioError> {
     let seed = scenario.file.seed;
     let key = "satellites.initial";
@@ -457,6 +486,24 @@ fn initial_states(
                 initial::shell(seed, count, inner, outer, v3(*center_hill_m)),
                 *velocity,
                 mean_motion_rad_s,
+            )
+        }
+        InitialSection::AveragedJ2 {
+            c1_max_m,
+            c4_max_m,
+            amplitude_max_m,
+        } => {
+            let c1 = c.non_negative(&format!("{key}.c1_max_m"), *c1_max_m)?;
+            let c4 = c.non_negative(&format!("{key}.c4_max_m"), *c4_max_m)?;
+            let a = c.non_negative(&format!("{key}.amplitude_max_m"), *amplitude_max_m)?;
+            initial::averaged_j2(
+                seed,
+                count,
+                &crate::relative::j2_averaged::AveragedJ2::new(*reference_model),
+                c1,
+                c4,
+                a,
+                origin_member,
             )
         }
         InitialSection::List { frame, states } => {

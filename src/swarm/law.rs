@@ -4,8 +4,9 @@
 //! Decentralisation is enforced by the types: a law computes one satellite's command from a
 //! [`SatelliteView`], which gives that satellite its own relative state, the neighbours its sensors and
 //! links reach (from the neighbour grid, honouring link outages and satellite losses), and the swarm-level
-//! information the scenario grants ([`SharedInfo`]). Only [`GuidanceLaw::initialise`] sees the whole swarm,
-//! once, before the run or after a law switch (e.g. to capture slots).
+//! information the scenario grants ([`SharedInfo`]). Only [`GuidanceLaw::initialise`] (once, before the run
+//! or after a law switch, e.g. to capture slots) and [`GuidanceLaw::centralised_update`] (a periodic
+//! **centralised** step the law schedules itself, e.g. a ground-computed grouping) see the whole swarm.
 //!
 //! Every vector here is in the engine's internal LVLH convention, Hill/RSW (x radial out, y along-track,
 //! z orbit normal), relative to the LVLH origin (the virtual reference orbit or a member satellite). Laws
@@ -18,6 +19,7 @@ use nalgebra::Vector3;
 use thiserror::Error;
 
 use crate::orbit::RelativeStateHill;
+use crate::relative::SchweighartSedwick;
 use crate::swarm::neighbours::NeighbourGrid;
 
 /// Swarm-level information granted to every satellite (ground warnings, broadcast quantities).
@@ -31,6 +33,10 @@ pub struct SharedInfo {
     pub threat_warning_active: bool,
     /// Range of every satellite's sensors and links \[m\]: neighbours farther away are never visited.
     pub sensing_range_m: f64,
+    /// Schweighart–Sedwick J2-linearised model of the reference orbit at t = 0 (radius and osculating
+    /// inclination of the LVLH origin's initial state; the model itself for `J2Linear` dynamics, J2 = 0
+    /// for the J2-free models), for laws built on averaged J2 constants.
+    pub reference_model: SchweighartSedwick,
 }
 
 /// What satellite `i` knows of a neighbour `j` within sensing range.
@@ -183,6 +189,24 @@ pub trait GuidanceLaw: Send + Sync {
     /// writes the values of [`GuidanceLaw::metric_names`] into `values` (same order and length). The
     /// law may keep what it needs across calls (e.g. when a shape was first reached). Default: nothing.
     fn record_metrics(&mut self, _swarm: &SwarmView<'_>, _values: &mut [f64]) {}
+
+    /// Whether the law's centralised step is due at the control tick `time_s` \[s\]. The engine asks at
+    /// every control tick (sampled mode) or integration step (continuous mode), outside the integrator's
+    /// right-hand side, and calls [`GuidanceLaw::centralised_update`] when this returns `true`. The law
+    /// owns its schedule (e.g. a period that grows during the run). Default: never.
+    fn centralised_due(&self, _time_s: f64) -> bool {
+        false
+    }
+
+    /// A **centralised** step with the whole swarm (navigation states, who is alive and linked), run
+    /// before the commands of a tick at which [`GuidanceLaw::centralised_due`] is `true`. It models a
+    /// computation that needs every satellite at once (a ground segment or an elected leader), not
+    /// something a satellite can do from its own view; laws that use it are not fully decentralised and
+    /// must say so. Its results (e.g. neighbour sets) are read by [`GuidanceLaw::command_m_s2`].
+    /// Default: nothing to do.
+    fn centralised_update(&mut self, _swarm: &SwarmView<'_>) -> Result<(), LawError> {
+        Ok(())
+    }
 
     /// Law-specific results for `summary.json`, computed from the final swarm. Default: none.
     fn results(&self, _swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {

@@ -31,7 +31,8 @@ use crate::integrate::{
     AdaptiveStepper, Dop853, IntegrateError, IntegratorMethod, OdeSystem, Rk4, Rkf78, Tolerances,
 };
 use crate::metrics::{five_elements, min_separation, FiveElements, FiveElementsWorkspace};
-use crate::orbit::{CartesianState, EarthModel, LvlhFrame, RelativeStateHill};
+use crate::orbit::{CartesianState, EarthModel, GravityModel, LvlhFrame, RelativeStateHill};
+use crate::relative::SchweighartSedwick;
 use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::events::{Event, EventAction, ThrustAxis};
@@ -242,14 +243,21 @@ struct Plant<'a> {
     config: &'a SimulationConfig,
     fleet: &'a Fleet,
     threat_warning_active: bool,
+    reference_model: SchweighartSedwick,
 }
 
 impl<'a> Plant<'a> {
-    fn new(config: &'a SimulationConfig, fleet: &'a Fleet, threat_warning_active: bool) -> Self {
+    fn new(
+        config: &'a SimulationConfig,
+        fleet: &'a Fleet,
+        threat_warning_active: bool,
+        reference_model: SchweighartSedwick,
+    ) -> Self {
         Self {
             config,
             fleet,
             threat_warning_active,
+            reference_model,
         }
     }
 
@@ -358,6 +366,7 @@ impl<'a> Plant<'a> {
                 mean_motion_rad_s: self.config.mean_motion_rad_s,
                 threat_warning_active: self.threat_warning_active,
                 sensing_range_m: sensing.range_m,
+                reference_model: self.reference_model,
             },
         };
         (view, frame)
@@ -555,6 +564,8 @@ pub struct Simulation {
     held_hill: Vec<Vector3<f64>>,
     step_index: u64,
     totals: RunTotals,
+    /// SS model of the reference orbit at t = 0, given to laws ([`SharedInfo::reference_model`]).
+    reference_model: SchweighartSedwick,
 }
 
 impl Simulation {
@@ -639,6 +650,7 @@ impl Simulation {
                 );
             }
         }
+        let reference_model = reference_model(&config, &reference_frame, satellites);
         let chunks = n.div_ceil(CHUNK);
         let solo_steppers = (0..chunks)
             .map(|_| Stepper::new(config.integrator, SOLO, &config))
@@ -671,6 +683,7 @@ impl Simulation {
                 collision_pair_samples: 0,
                 final_five_elements: None,
             },
+            reference_model,
             config,
         };
         sim.check_rates(sim.law.as_ref())?;
@@ -738,13 +751,24 @@ impl Simulation {
         &self.fleet.active
     }
 
+    /// The Schweighart–Sedwick model of the reference orbit at t = 0 that laws get
+    /// ([`SharedInfo::reference_model`]).
+    pub fn reference_model(&self) -> SchweighartSedwick {
+        self.reference_model
+    }
+
     /// The running law.
     pub fn law(&self) -> &dyn GuidanceLaw {
         self.law.as_ref()
     }
 
     fn plant(&self) -> Plant<'_> {
-        Plant::new(&self.config, &self.fleet, self.threat_warning_active)
+        Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        )
     }
 
     /// Base step: the control period in sampled mode, the integration step in continuous mode \[s\].
@@ -813,7 +837,12 @@ impl Simulation {
 
     fn initialise_law(&mut self) -> Result<(), SimError> {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant::new(&self.config, &self.fleet, self.threat_warning_active);
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let (view, _) = plant.view(
             self.time_s,
             self.state.as_slice(),
@@ -845,10 +874,30 @@ impl Simulation {
         names
     }
 
+    /// Runs the law's centralised step on the swarm at `time_s` (navigation states without noise: the
+    /// centralised step is modelled as having the ground's precise orbit determination).
+    fn centralised_update(&mut self, time_s: f64) -> Result<(), SimError> {
+        let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
+        let (view, _) = plant.view(time_s, self.state.as_slice(), &mut scratch.sensed, false);
+        self.law.centralised_update(&view)?;
+        Ok(())
+    }
+
     /// The law's results for the summary, from the current (final) swarm.
     pub fn law_results(&mut self) -> BTreeMap<String, serde_json::Value> {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant::new(&self.config, &self.fleet, self.threat_warning_active);
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let (view, _) = plant.view(
             self.time_s,
             self.state.as_slice(),
@@ -895,6 +944,9 @@ impl Simulation {
 
     /// Advances the state from t0 to t1 (one segment). `at_tick`: t0 is a control tick.
     fn advance(&mut self, t0: f64, t1: f64, at_tick: bool) -> Result<(), SimError> {
+        if at_tick && self.law.centralised_due(t0) {
+            self.centralised_update(t0)?;
+        }
         if at_tick {
             self.draw_noise();
             self.step_index += 1;
@@ -913,7 +965,12 @@ impl Simulation {
     }
 
     fn advance_coupled(&mut self, t0: f64, t1: f64) -> Result<(), SimError> {
-        let plant = Plant::new(&self.config, &self.fleet, self.threat_warning_active);
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            self.threat_warning_active,
+            self.reference_model,
+        );
         let system = CoupledSwarm {
             plant,
             law: self.law.as_ref(),
@@ -1172,7 +1229,12 @@ impl Simulation {
         let law_metric_names = self.law.metric_names();
         let mut law_metrics = vec![0.0; law_metric_names.len()];
         if !law_metrics.is_empty() {
-            let plant = Plant::new(&self.config, &self.fleet, self.threat_warning_active);
+            let plant = Plant::new(
+                &self.config,
+                &self.fleet,
+                self.threat_warning_active,
+                self.reference_model,
+            );
             let (view, _) = plant.view(self.time_s, data, sensed, false);
             self.law.record_metrics(&view, &mut law_metrics);
         }
@@ -1192,6 +1254,35 @@ impl Simulation {
         recorder.record(&snapshot)?;
         Ok(())
     }
+}
+
+/// The SS model of the reference orbit at t = 0 (spec `takahashi-sakai-j2-distance.md` §2.2): radius
+/// and osculating inclination of the LVLH origin's initial ECI state (the virtual reference, or the
+/// member origin's state); the dynamics' own model for `J2Linear`; J2 = 0 for the J2-free models.
+fn reference_model(
+    config: &SimulationConfig,
+    reference_frame: &LvlhFrame,
+    satellites: &[SatelliteInit],
+) -> SchweighartSedwick {
+    if let DynamicsModel::J2Linear(model) = config.dynamics {
+        return model;
+    }
+    let origin = match config.origin {
+        Origin::VirtualReference => config.reference,
+        Origin::Member(k) => reference_frame.from_hill(&satellites[k].relative_state),
+    };
+    let h = origin.specific_angular_momentum_m2_s();
+    let j2 = match config.dynamics {
+        DynamicsModel::Inertial(GravityModel::J2) => config.earth.j2,
+        _ => 0.0,
+    };
+    SchweighartSedwick::new(
+        origin.position_m.norm(),
+        (h.z / h.norm()).acos(),
+        config.earth.mu_m3_s2,
+        config.earth.equatorial_radius_m,
+        j2,
+    )
 }
 
 /// Minimum separation between live satellites \[m\] and the count of pairs closer than the sum of their

@@ -4,6 +4,7 @@
 
 pub mod core;
 pub mod gao;
+pub mod takahashi;
 
 use std::fmt;
 
@@ -105,19 +106,27 @@ pub enum ValidateError {
 }
 
 /// The validation targets: name and what they reproduce.
-pub const TARGETS: &[(&str, &str)] = &[(
-    "core",
-    "orbital mechanics and relative motion: J2 secular rates, integrator accuracy, HCW and SS vs truth",
-), (
-    "gao",
-    "Gao et al. 2022 bifurcating potential field: outcomes O1-O14 (shapes, speed-up, Table 5, delta-v)",
-)];
+pub const TARGETS: &[(&str, &str)] = &[
+    (
+        "core",
+        "orbital mechanics and relative motion: J2 secular rates, integrator accuracy, HCW and SS vs truth",
+    ),
+    (
+        "gao",
+        "Gao et al. 2022 bifurcating potential field: outcomes O1-O14 (shapes, speed-up, Table 5, delta-v)",
+    ),
+    (
+        "takahashi",
+        "Takahashi & Sakai distance-based stabiliser under J2: §4.1 comparison, §4.2 planes, outages",
+    ),
+];
 
 /// Runs one target.
 pub fn run(target: &str) -> Result<Report, ValidateError> {
     match target {
         "core" => core::report(),
         "gao" => gao::report(),
+        "takahashi" => takahashi::report(),
         _ => Err(ValidateError::UnknownTarget {
             name: target.to_string(),
             allowed: TARGETS.iter().map(|t| t.0).collect::<Vec<_>>().join(", "),
