@@ -2,17 +2,16 @@
 //! CI: the same code as `satflock validate gao` (`satflock::validate::gao`), on the built-in `gao-*`
 //! scenarios, with the spec's tolerances. Seed-dependent outcomes use 5 seeds and test the median.
 //! The full-length set (G1/G2 lines, G5, G6, the whole Table 4 sequence, every Fig. 19 shape) is in
-//! `satflock validate gao`. O10 is not asserted here: our G1 line is 28-31 m thick at 2000 s (5 seeds)
-//! against the spec's 5 m expectation; `satflock validate gao` reports it.
+//! `satflock validate gao`; O9–O12 are in `tests/regress_gao_shapes.rs` (3 seeds).
 
 use satflock::orbit::GravityModel;
-use satflock::validate::gao::{median, run_builtin, table5_centre_errors, Trace, SEEDS};
+use satflock::validate::gao::{
+    median, ring_assignment, run_seeds, stage_end_error, table5_centre_errors, Trace, SEEDS,
+};
 
+/// The 5 seeds of `name`, one whole run per core.
 fn runs(name: &str, duration_s: Option<f64>) -> Vec<Trace> {
-    SEEDS
-        .iter()
-        .map(|&s| run_builtin(name, s, duration_s).unwrap())
-        .collect()
+    run_seeds(name, &SEEDS, duration_s).unwrap()
 }
 
 fn last(t: &Trace) -> usize {
@@ -70,12 +69,19 @@ fn regress_o6_o7_o8_circle_speed_up_and_delta_v() {
     );
 }
 
-/// O5 and O14 on the Table 4 sequence's disk → circle switch (G9 cut at Table 5's 2000 s, 5 seeds):
-/// L while in the disk ∈ [0.05, 0.09] (paper ≈ 0.07), and after the switch L(2000 s) ∈ [0.006, 0.0105]
-/// and diameter ∈ [0.98, 1.08] km (paper 0.0086 and 1.003 km), spec §6.
+/// O5, O13 and O14 on the whole Table 4 sequence (G9, 8000 s, 5 seeds, medians):
+/// * O14: L while in the disk (Table 5's 0–1000 s) ∈ [0.05, 0.09] (paper ≈ 0.07);
+/// * O5: after the disk → circle switch, L(Table 5's 2000 s) ∈ [0.006, 0.0105] and diameter ∈ [0.98,
+///   1.08] km (paper 0.0086 and 1.003 km), spec §6. The spec's "L dips ≥ 5× within 150 s" is NOT
+///   asserted: we measure ×4.4 (README, O5);
+/// * O13, stage by stage where the physics reaches in the 1000 s per stage: the circle within 3 % of
+///   its size (spec O12/O13: as the surfaces) and, on ellipse → double circle, ≥ 95 % of satellites on
+///   the ring nearer their start. Not asserted (README, O13): the line (zigzag-buckled, ≈ 80 m), the
+///   double line (starts on the unstable ridge z = 0, growth time 1330 s), the ellipse (4 % against
+///   3 %), the double circle radii (time constant 1330 s).
 #[test]
-fn regress_o5_o14_disk_to_circle() {
-    let g9 = runs("gao-reconfiguration", Some(4000.0));
+fn regress_o5_o13_o14_table4_sequence() {
+    let g9 = runs("gao-reconfiguration", None);
     let disk = median(
         &g9.iter()
             .map(|t| {
@@ -88,12 +94,46 @@ fn regress_o5_o14_disk_to_circle() {
             .collect::<Vec<_>>(),
     );
     assert!((0.05..=0.09).contains(&disk), "L in the disk {disk}");
-    let l_end = median(&g9.iter().map(|t| t.l(last(t))).collect::<Vec<_>>());
+    let k4000 = |t: &Trace| t.index_at(4000.0);
+    let l_end = median(&g9.iter().map(|t| t.l(k4000(t))).collect::<Vec<_>>());
     let d_end = median(
         &g9.iter()
-            .map(|t| t.five[last(t)].diameter_m)
+            .map(|t| t.five[k4000(t)].diameter_m)
             .collect::<Vec<_>>(),
     );
     assert!((0.006..=0.0105).contains(&l_end), "L(2000 s) = {l_end}");
     assert!((980.0..=1080.0).contains(&d_end), "diameter {d_end} m");
+    let circle = median(
+        &g9.iter()
+            .map(|t| stage_end_error(t, 4000.0))
+            .collect::<Vec<_>>(),
+    );
+    let stages: Vec<f64> = [5000.0, 6000.0, 7000.0, 8000.0]
+        .iter()
+        .map(|&end| {
+            median(
+                &g9.iter()
+                    .map(|t| stage_end_error(t, end))
+                    .collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    let nearest = median(
+        &g9.iter()
+            .map(|t| {
+                ring_assignment(
+                    t,
+                    t.index_at(7000.0),
+                    last(t),
+                    [500.0, 1500.0],
+                    1000.0,
+                    0.03,
+                )
+                .1
+            })
+            .collect::<Vec<_>>(),
+    );
+    eprintln!("O13: circle {circle}, line/double line/ellipse/double circle {stages:?}, nearest {nearest}");
+    assert!(circle <= 0.03, "circle stage {circle}");
+    assert!(nearest >= 0.95, "nearest ring {nearest}");
 }

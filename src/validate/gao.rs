@@ -170,6 +170,24 @@ pub fn run_builtin(name: &str, seed: u64, duration_s: Option<f64>) -> Result<Tra
     Ok(collect.trace)
 }
 
+/// Shape error of `trace` at the stage ending at `end_s` (the recording at that time, against the
+/// parameters in force just before it): residual and |y| relative to the shape's size, or in metres for
+/// the line family (no size, or a size that is the line offset).
+pub fn stage_end_error(trace: &Trace, end_s: f64) -> f64 {
+    let k = trace.index_at(end_s);
+    let before = trace.index_at(end_s - 1e-3).min(k.saturating_sub(1));
+    let p = &trace.parameters[before];
+    let e = p.shape_error(&trace.positions_gao_m[k]);
+    let err = e
+        .max_residual_m
+        .unwrap_or(f64::INFINITY)
+        .max(e.max_out_of_plane_m);
+    match e.size_m {
+        Some(size) if p.b != 0.0 => err / size,
+        _ => err,
+    }
+}
+
 /// Median of a non-empty list (mean of the two middle values for even lengths).
 pub fn median(values: &[f64]) -> f64 {
     let mut v = values.to_vec();
@@ -298,13 +316,44 @@ pub fn ring_assignment(
     (on_ring / n, nearest / n)
 }
 
-/// Whether a filled shape is filled: median shape coordinate ≤ 0.85 × its largest (uniform disk: 0.71,
-/// uniform ball: 0.79, any ring or shell: 1.0).
-pub fn filled_ratio(trace: &Trace, k: usize) -> f64 {
+/// How well a filled shape (disk, ellipse disk, ball, solid ellipsoid) is formed at recording `k`.
+///
+/// The paper gives no size for its filled shapes (the repulsion sets it), so "all satellites inside the
+/// level set" is judged by the level set ρ ≤ ρ_max that encloses them all: it must have the commanded
+/// shape, be filled rather than a shell, and (2-D) lie in the orbital plane.
+#[derive(Clone, Copy, Debug)]
+pub struct FilledShape {
+    /// Median over satellites of ρ/ρ_max (uniform disk 0.71, uniform ball 0.79, any ring or shell 1.0);
+    /// reported only: this law piles satellites at the boundary (the spec's 1+8+16+25 disk lattice
+    /// already gives 0.83), so it does not separate filled from hollow.
+    pub median_ratio: f64,
+    /// Widest empty annulus (shell in 3-D) of the shape coordinate, largest gap between consecutive
+    /// sorted values of ρ/ρ_max counting from the centre (0): a single ring or shell has ≈ 1, two rings
+    /// at ρ_max/3 and ρ_max 0.67, the spec's 1+8+16+25 disk lattice (§5) 1/3.
+    pub largest_radial_gap: f64,
+    /// Aspect error: the RMS extents along the shape's axes, divided by the commanded semi-axis ratios
+    /// (a : b in 2-D, a : b : c in 3-D), max/min − 1 (0 for a level set of the commanded shape).
+    pub aspect_error: f64,
+    /// Largest |y| over the smallest semi-axis of the enclosing level set (2-D; 0 in 3-D).
+    pub out_of_plane: f64,
+}
+
+impl FilledShape {
+    /// Filled (no empty annulus wider than 0.4 ρ_max: a lattice of rings as sparse as the spec's
+    /// reference disk passes, one or two rings do not), commanded aspect within 10 % (finite-N sampling
+    /// of 50 points), in-plane within 3 % (as the surfaces).
+    pub fn formed(&self) -> bool {
+        self.largest_radial_gap <= 0.4 && self.aspect_error <= 0.10 && self.out_of_plane <= 0.03
+    }
+}
+
+/// [`FilledShape`] of recording `k` of `trace`, against the parameters then in force.
+pub fn filled_shape(trace: &Trace, k: usize) -> FilledShape {
     let p = &trace.parameters[k];
     let mut probe = p.clone();
     probe.radius_m = 0.0;
-    let coordinates: Vec<f64> = trace.positions_gao_m[k]
+    let q = &trace.positions_gao_m[k];
+    let coordinates: Vec<f64> = q
         .iter()
         .map(|q| {
             probe
@@ -313,7 +362,89 @@ pub fn filled_ratio(trace: &Trace, k: usize) -> f64 {
         })
         .collect();
     let max = coordinates.iter().copied().fold(0.0, f64::max);
-    median(&coordinates) / max
+    let planar = p.dimension == crate::guidance::bifurcating::Dimension::Planar;
+    // Semi-axes of a level set of ρ are ∝ (a, b) along (x, z) in 2-D and (a, b, c) along (x, y, z) in
+    // 3-D (spec §3.4 table), so RMS extent / factor is the same on every axis for a filled level set.
+    let rms = |f: fn(&Vector3<f64>) -> f64| {
+        (q.iter().map(|v| f(v).powi(2)).sum::<f64>() / q.len() as f64).sqrt()
+    };
+    let mut scaled = vec![rms(|v| v.x) / p.a];
+    if planar {
+        scaled.push(rms(|v| v.z) / p.b);
+    } else {
+        scaled.push(rms(|v| v.y) / p.b);
+        scaled.push(rms(|v| v.z) / p.c);
+    }
+    let hi = scaled.iter().copied().fold(0.0, f64::max);
+    let lo = scaled.iter().copied().fold(f64::INFINITY, f64::min);
+    let out_of_plane = if planar {
+        let smallest_semi_axis = max / p.a.max(p.b);
+        q.iter().map(|v| v.y.abs()).fold(0.0, f64::max) / smallest_semi_axis
+    } else {
+        0.0
+    };
+    let mut sorted: Vec<f64> = coordinates.iter().map(|c| c / max).collect();
+    sorted.sort_by(f64::total_cmp);
+    let largest_radial_gap = sorted
+        .iter()
+        .scan(0.0, |prev, &c| {
+            let gap = c - *prev;
+            *prev = c;
+            Some(gap)
+        })
+        .fold(0.0, f64::max);
+    FilledShape {
+        median_ratio: median(&coordinates) / max,
+        largest_radial_gap,
+        aspect_error: hi / lo - 1.0,
+        out_of_plane,
+    }
+}
+
+/// Largest distance of a satellite from the target line(s) of a line-family shape (b = 0), |z| for the
+/// single line or ||z| − μ/a| for the double line, and |y|, at recording `k` \[m\].
+pub fn line_distance_m(trace: &Trace, k: usize) -> f64 {
+    let e = trace.shape_error(k);
+    e.max_residual_m
+        .unwrap_or(f64::INFINITY)
+        .max(e.max_out_of_plane_m)
+}
+
+/// Linear stability of a straight line of satellites (spec §3.2 repulsion, line potential b = 0,
+/// μ < 0): the alternating "zigzag" mode z_j = ±ε at along-track spacing δ feels the outward stiffness
+/// 2 Σ_{odd j, both sides, jδ < s} k_c (s/(jδ) − 1) against the line's restoring stiffness k_f a²|μ|
+/// (φ''(0) = |μ|). Returns the smallest spacing at which the straight line is stable \[m\].
+pub fn zigzag_critical_spacing_m(k_c: f64, s_m: f64, restoring_n_per_m: f64) -> f64 {
+    let outward = |delta: f64| {
+        let mut sum = 0.0;
+        let mut j = 1.0;
+        while j * delta < s_m {
+            sum += 4.0 * k_c * (s_m / (j * delta) - 1.0);
+            j += 2.0;
+        }
+        sum
+    };
+    // The outward stiffness decreases with δ: bisect on [s/1e4, s].
+    let (mut lo, mut hi) = (s_m * 1e-4, s_m);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if outward(mid) > restoring_n_per_m {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Mean along-track (Gao x) gap between consecutive satellites of the middle 40 % of a line at
+/// recording `k` \[m\] (the most compressed part of a line spreading under repulsion alone).
+pub fn central_line_spacing_m(trace: &Trace, k: usize) -> f64 {
+    let mut x: Vec<f64> = trace.positions_gao_m[k].iter().map(|q| q.x).collect();
+    x.sort_by(f64::total_cmp);
+    let n = x.len();
+    let (i0, i1) = (n * 3 / 10, n * 7 / 10);
+    (x[i1] - x[i0]) / (i1 - i0) as f64
 }
 
 fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Check {
@@ -330,17 +461,115 @@ fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Chec
     }
 }
 
-fn runs(name: &str, duration_s: Option<f64>) -> Result<Vec<Trace>, ValidateError> {
-    SEEDS
-        .iter()
-        .map(|&s| run_builtin(name, s, duration_s))
+/// Runs every `(built-in name, seed, duration)` job on as many worker threads as the current rayon
+/// pool has (`--threads`, default all cores), each worker running whole runs one after another on its
+/// own single-thread rayon pool: 50 satellites are too few for the engine's per-step parallelism to
+/// pay (a G3 run takes 3.0 s of CPU on one thread and more wall time on two), so runs, not steps, are
+/// spread over the cores. (A rayon `par_iter` over the runs would not bound the concurrency: a worker
+/// waiting in another pool's `install` steals and starts further runs.) Results do not depend on the
+/// thread count (the engine is bitwise deterministic). Traces come back in job order.
+pub fn run_all(jobs: &[(&str, u64, Option<f64>)]) -> Result<Vec<Trace>, ValidateError> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let workers = rayon::current_num_threads().clamp(1, jobs.len().max(1));
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<Trace, ValidateError>>>> =
+        Mutex::new((0..jobs.len()).map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| {
+                let pool = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+                    Ok(pool) => pool,
+                    Err(e) => {
+                        let i = next.fetch_add(1, Ordering::SeqCst);
+                        if i < jobs.len() {
+                            results.lock().expect("results lock")[i] = Some(Err(failed(e)));
+                        }
+                        return;
+                    }
+                };
+                loop {
+                    let i = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(&(name, seed, duration_s)) = jobs.get(i) else {
+                        break;
+                    };
+                    let trace = pool.install(|| run_builtin(name, seed, duration_s));
+                    results.lock().expect("results lock")[i] = Some(trace);
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .expect("results lock")
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| Err(failed("a run was not started"))))
         .collect()
 }
+
+/// [`run_all`] of one scenario over `seeds`.
+pub fn run_seeds(
+    name: &str,
+    seeds: &[u64],
+    duration_s: Option<f64>,
+) -> Result<Vec<Trace>, ValidateError> {
+    let jobs: Vec<_> = seeds.iter().map(|&s| (name, s, duration_s)).collect();
+    run_all(&jobs)
+}
+
+/// G6 (concentric double circle) is run this long besides the paper's 2000 s (same run, evaluated at
+/// both times): the ring stiffness k_f·μ = 1.5 N/m gives a time constant k_v/(k_f μ) ≈ 1330 s, and
+/// satellites starting near the ridge ρ = 1 km leave it at the same rate \[s\].
+pub const G6_LONG_S: f64 = 8000.0;
+
+/// G1 (single line) is run this long besides the paper's 2000 s, to follow the zigzag relaxing \[s\].
+pub const G1_LONG_S: f64 = 10000.0;
 
 /// The full report.
 pub fn report() -> Result<Report, ValidateError> {
     let mut checks = Vec::new();
     let mut notes = Vec::new();
+
+    // Every simulated run of the report, once, in one parallel batch (no run is repeated).
+    let scenarios: [(&str, Option<f64>); 14] = [
+        ("gao-circle", None),
+        ("gao-circle-steep", None),
+        ("gao-line", Some(G1_LONG_S)),
+        ("gao-double-line", None),
+        ("gao-circle-large", None),
+        ("gao-double-circle", Some(G6_LONG_S)),
+        ("gao-ellipse", None),
+        ("gao-double-ellipse", None),
+        ("gao-ellipsoid-surface", None),
+        ("gao-sphere-surface", None),
+        ("gao-disk", None),
+        ("gao-ellipse-disk", None),
+        ("gao-spherical-space", None),
+        ("gao-reconfiguration", None),
+    ];
+    // Longest runs first, for load balance.
+    let mut jobs: Vec<(&str, u64, Option<f64>)> = Vec::new();
+    for &(name, d) in scenarios
+        .iter()
+        .filter(|x| x.1.is_some() || x.0 == "gao-reconfiguration")
+    {
+        jobs.extend(SEEDS.iter().map(|&s| (name, s, d)));
+    }
+    for &(name, d) in scenarios
+        .iter()
+        .filter(|x| x.1.is_none() && x.0 != "gao-reconfiguration")
+    {
+        jobs.extend(SEEDS.iter().map(|&s| (name, s, d)));
+    }
+    let all = run_all(&jobs)?;
+    let runs = |name: &str, _duration: Option<f64>| -> Result<Vec<Trace>, ValidateError> {
+        Ok(jobs
+            .iter()
+            .zip(&all)
+            .filter(|(j, _)| j.0 == name)
+            .map(|(_, t)| t.clone())
+            .collect())
+    };
 
     // O1: closed form of L for 50 evenly spaced points on a circle (spec §2).
     let n = 50usize;
@@ -417,33 +646,65 @@ pub fn report() -> Result<Report, ValidateError> {
             .into(),
     );
 
-    // O10: lines.
+    // O10: lines, at the paper's (assumed) 2000 s; G1 also followed to G1_LONG_S.
     let g1 = runs("gao-line", None)?;
     let g2 = runs("gao-double-line", None)?;
     let z1: Vec<f64> = g1
         .iter()
-        .map(|t| {
-            let e = t.shape_error(t.times_s.len() - 1);
-            e.max_residual_m
-                .unwrap_or(f64::INFINITY)
-                .max(e.max_out_of_plane_m)
-        })
+        .map(|t| line_distance_m(t, t.index_at(2000.0)))
+        .collect();
+    let z1_long: Vec<f64> = g1
+        .iter()
+        .map(|t| line_distance_m(t, t.times_s.len() - 1))
         .collect();
     let z2: Vec<f64> = g2
         .iter()
-        .map(|t| {
-            let e = t.shape_error(t.times_s.len() - 1);
-            e.max_residual_m
-                .unwrap_or(f64::INFINITY)
-                .max(e.max_out_of_plane_m)
-        })
+        .map(|t| line_distance_m(t, t.times_s.len() - 1))
         .collect();
+    let gap1 = median(
+        &g1.iter()
+            .map(|t| central_line_spacing_m(t, t.index_at(2000.0)))
+            .collect::<Vec<_>>(),
+    );
+    let gap1_long = median(
+        &g1.iter()
+            .map(|t| central_line_spacing_m(t, t.times_s.len() - 1))
+            .collect::<Vec<_>>(),
+    );
+    let p1 = &g1[0].parameters[0];
+    let critical = zigzag_critical_spacing_m(
+        p1.k_c_kg_per_s2,
+        p1.avoidance_radius_m,
+        p1.k_f_kg_per_m_s2 * p1.a * p1.a * p1.mu_m.abs(),
+    );
     checks.push(check(
         "O10",
         "G1 line z = 0 and G2 lines z = ±0.5 km: largest distance from the target lines (|z| or ||z|−0.5 km|, and |y|) at 2000 s ≤ 5 m",
         "lines formed (Fig. 11)".into(),
-        format!("G1 {:.2} m, G2 {:.2} m (medians)", median(&z1), median(&z2)),
+        format!(
+            "G1 {:.1} m ({:.0} s: {:.1} m), G2 {:.1} m (medians)",
+            median(&z1),
+            G1_LONG_S,
+            median(&z1_long),
+            median(&z2)
+        ),
         median(&z1) <= 5.0 && median(&z2) <= 5.0,
+    ));
+    notes.push(format!(
+        "O10: the line is free along-track and spreads only by repulsion, so at 2000 s it is still \
+         compressed: central spacing {gap1:.1} m (median of 5 seeds; {gap1_long:.1} m at {G1_LONG_S:.0} s) \
+         with s = {:.0} m. A straight line is then unstable to the zigzag mode: its outward stiffness \
+         2 Σ_(odd j) k_c (s/(jδ) − 1) exceeds the line's restoring stiffness k_f a²|μ| = {:.0} N/m for \
+         spacings δ below {critical:.1} m (linear stability, from the gains alone). The thickness is this \
+         buckling, not an error of the law; it shrinks as the line lengthens. G2 starts from the same \
+         0.1 km ball on the ridge z = 0 of the double-well, which is unstable with stiffness −k_f a² μ = \
+         −{:.0} N/m, i.e. a growth time k_v/(k_f a² μ) = {:.0} s: a satellite starting 1 m from z = 0 \
+         needs ln(500) ≈ 6.2 growth times to reach its line, longer than 2000 s.",
+        p1.avoidance_radius_m,
+        p1.k_f_kg_per_m_s2 * p1.a * p1.a * p1.mu_m.abs(),
+        g2[0].parameters[0].k_f_kg_per_m_s2 * g2[0].parameters[0].mu_m,
+        g2[0].parameters[0].k_v_kg_per_s
+            / (g2[0].parameters[0].k_f_kg_per_m_s2 * g2[0].parameters[0].mu_m),
     ));
 
     // O11: large circle.
@@ -463,29 +724,54 @@ pub fn report() -> Result<Report, ValidateError> {
         median(&e5) <= 0.03,
     ));
 
-    // O9: concentric double circle.
+    // O9: concentric double circle, at 2000 s (paper) and G6_LONG_S (same runs).
     let g6 = runs("gao-double-circle", None)?;
-    let on: Vec<(f64, f64)> = g6
-        .iter()
-        .map(|t| ring_assignment(t, 0, t.times_s.len() - 1, [500.0, 1500.0], 1000.0, 0.03))
-        .collect();
-    let on_ring = median(&on.iter().map(|x| x.0).collect::<Vec<_>>());
-    let nearest = median(&on.iter().map(|x| x.1).collect::<Vec<_>>());
+    let at = |t: &Trace, time: f64| {
+        ring_assignment(t, 0, t.index_at(time), [500.0, 1500.0], 1000.0, 0.03)
+    };
+    let summary = |time: f64| {
+        let on: Vec<(f64, f64)> = g6.iter().map(|t| at(t, time)).collect();
+        (
+            median(&on.iter().map(|x| x.0).collect::<Vec<_>>()),
+            median(&on.iter().map(|x| x.1).collect::<Vec<_>>()),
+        )
+    };
+    let (on_ring, nearest) = summary(2000.0);
+    let (on_long, nearest_long) = summary(G6_LONG_S);
+    let radii = |time: f64| {
+        let rho: Vec<f64> = g6
+            .iter()
+            .flat_map(|t| {
+                t.positions_gao_m[t.index_at(time)]
+                    .iter()
+                    .map(|q| (q.x * q.x + q.z * q.z).sqrt())
+            })
+            .collect();
+        let lo = rho.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = rho.iter().copied().fold(0.0, f64::max);
+        (lo, hi)
+    };
+    let (lo2, hi2) = radii(2000.0);
+    let (lo8, hi8) = radii(G6_LONG_S);
     checks.push(check(
         "O9",
         "G6 double circle 0.5/1.5 km at 2000 s: every satellite within 3 % of a ring; ≥ 95 % on the ring nearer its start (ρ < 1 km → inner)",
         "two rings, satellites to the nearer ring (Fig. 17)".into(),
         format!(
-            "{:.0} % within 3 % of a ring, {:.0} % on the nearer ring (medians)",
+            "2000 s: {:.0} % within 3 % of a ring, {:.0} % on the nearer ring, ρ {lo2:.0}–{hi2:.0} m; \
+             {G6_LONG_S:.0} s: {:.0} %, {:.0} %, ρ {lo8:.0}–{hi8:.0} m (medians; ρ range over all seeds)",
             100.0 * on_ring,
-            100.0 * nearest
+            100.0 * nearest,
+            100.0 * on_long,
+            100.0 * nearest_long
         ),
         on_ring >= 1.0 && nearest >= 0.95,
     ));
     notes.push(
         "O9: with μ = +0.5 km the ring stiffness is k_f·φ''(±μ) = k_f·μ = 1.5 N/m, so the damped time \
          constant is k_v/(k_f μ) ≈ 1330 s; satellites starting near the ridge ρ = 1 km leave it at the \
-         same slow rate, and 2000 s is not enough for all of them to settle from a 2 km cube."
+         same slow rate, and 2000 s is not enough for all of them to settle from a 2 km cube. The same \
+         runs are continued to the longer time to show where the physics converges."
             .into(),
     );
 
@@ -529,13 +815,22 @@ pub fn report() -> Result<Report, ValidateError> {
         ("gao-spherical-space", "spherical space"),
     ] {
         let tr = runs(name, None)?;
-        let f: Vec<f64> = tr
+        let f: Vec<FilledShape> = tr
             .iter()
-            .map(|t| filled_ratio(t, t.times_s.len() - 1))
+            .map(|t| filled_shape(t, t.times_s.len() - 1))
             .collect();
-        let m = median(&f);
-        ok12 &= m <= 0.85;
-        ours12.push(format!("{label} median/max coordinate {m:.2}"));
+        let fill = median(&f.iter().map(|x| x.median_ratio).collect::<Vec<_>>());
+        let gap = median(&f.iter().map(|x| x.largest_radial_gap).collect::<Vec<_>>());
+        let aspect = median(&f.iter().map(|x| x.aspect_error).collect::<Vec<_>>());
+        let plane = median(&f.iter().map(|x| x.out_of_plane).collect::<Vec<_>>());
+        let formed = f.iter().filter(|x| x.formed()).count();
+        ok12 &= 2 * formed > f.len();
+        ours12.push(format!(
+            "{label} widest empty annulus {gap:.2} ρ_max (median ρ/ρ_max {fill:.2}), aspect error {:.1} %, |y| {:.1} % ({formed}/{} seeds formed)",
+            100.0 * aspect,
+            100.0 * plane,
+            f.len()
+        ));
         l19.push((
             label,
             median(
@@ -547,7 +842,7 @@ pub fn report() -> Result<Report, ValidateError> {
     }
     checks.push(check(
         "O12",
-        "Fig. 18–19 shapes at 2000 s: surfaces within 3 % of their size (residual and |y|); filled shapes filled (median/max shape coordinate ≤ 0.85)",
+        "Fig. 18–19 shapes at 2000 s: surfaces within 3 % of their size (residual and |y|); filled shapes: the level set ρ ≤ ρ_max enclosing all satellites has the commanded aspect (RMS extents, 10 %), is filled (no empty annulus wider than 0.4 ρ_max; ring or shell ≈ 1) and in-plane (|y| ≤ 3 %); majority of seeds",
         "every shape formed".into(),
         ours12.join("; "),
         ok12,
@@ -689,7 +984,8 @@ pub fn report() -> Result<Report, ValidateError> {
         format!("{ml_disk:.4} (median)"),
         (0.05..=0.09).contains(&ml_disk),
     ));
-    // O13: every stage reached at its end, nearest-ring assignment on ellipse → double circle.
+    // O13: every stage at its end (the recording at the switch time, judged against the stage that
+    // ends there), with O9–O12's criteria; nearest-ring assignment on ellipse → double circle.
     let stage_ends = [
         (TABLE5_OFFSET_S + 2000.0, "circle"),
         (TABLE5_OFFSET_S + 3000.0, "line"),
@@ -700,52 +996,87 @@ pub fn report() -> Result<Report, ValidateError> {
     let mut ours13 = Vec::new();
     let mut ok13 = true;
     for (end, label) in stage_ends {
-        let rel: Vec<f64> = g9
-            .iter()
-            .map(|t| {
-                let k = t.index_at(end - 1e-6);
-                let e = t.shape_error(k);
-                let err = e
-                    .max_residual_m
-                    .unwrap_or(f64::INFINITY)
-                    .max(e.max_out_of_plane_m);
-                match e.size_m {
-                    Some(size) => err / size,
-                    None => err / 1e4, // single line: absolute error over 10 m, shown in %
-                }
-            })
-            .collect();
-        let m = median(&rel);
-        let limit = if label == "line" { 5e-4 } else { 0.05 };
-        ok13 &= m <= limit;
-        ours13.push(if label == "line" {
-            format!("{label} {:.2} m", m * 1e4)
-        } else {
-            format!("{label} {:.1} %", 100.0 * m)
-        });
+        let errors: Vec<f64> = g9.iter().map(|t| stage_end_error(t, end)).collect();
+        let m = median(&errors);
+        match label {
+            "line" | "double line" => {
+                ok13 &= m <= 5.0;
+                ours13.push(format!("{label} {m:.1} m"));
+            }
+            "double circle" => {
+                let on: Vec<f64> = g9
+                    .iter()
+                    .map(|t| {
+                        let k = t.index_at(end);
+                        ring_assignment(t, k, k, [500.0, 1500.0], 1000.0, 0.03).0
+                    })
+                    .collect();
+                let m_on = median(&on);
+                ok13 &= m_on >= 1.0;
+                ours13.push(format!(
+                    "{label} {:.0} % within 3 % of a ring",
+                    100.0 * m_on
+                ));
+            }
+            _ => {
+                ok13 &= m <= 0.03;
+                ours13.push(format!("{label} {:.1} %", 100.0 * m));
+            }
+        }
     }
     let nearest13 = median(
         &g9.iter()
             .map(|t| {
                 let from = t.index_at(TABLE5_OFFSET_S + 5000.0);
-                ring_assignment(t, from, t.times_s.len() - 1, [500.0, 1500.0], 1000.0, 0.05).1
+                ring_assignment(t, from, t.times_s.len() - 1, [500.0, 1500.0], 1000.0, 0.03).1
             })
             .collect::<Vec<_>>(),
     );
     ok13 &= nearest13 >= 0.95;
     checks.push(check(
         "O13",
-        "G9 Table 4: each stage's residual at its end within 5 % of its size (line: 5 m); ellipse → double circle: ≥ 95 % on the nearer ring",
+        "G9 Table 4, each stage at its end: circle, ellipse residual and |y| ≤ 3 % of size; line, double line ≤ 5 m; double circle every satellite within 3 % of a ring; ellipse → double circle ≥ 95 % on the nearer ring",
         "every reconfiguration succeeds, no slots".into(),
-        format!("{}; nearer ring {:.0} %", ours13.join(", "), 100.0 * nearest13),
+        format!("{}; nearer ring {:.0} % (medians)", ours13.join(", "), 100.0 * nearest13),
         ok13,
     ));
-    notes.push(
-        "O13: the Table 4 ellipse (semi-axes 1 and 0.6 km) lies entirely inside ρ = 1 km, so every \
-         satellite goes to the inner ring of the double circle (0.5 km): 50 satellites on 3.1 km of ring \
-         with s = 0.2 km push each other outward against a ring stiffness of only k_f·μ = 1.5 N/m."
-            .into(),
+    let line_gap = median(
+        &g9.iter()
+            .map(|t| central_line_spacing_m(t, t.index_at(TABLE5_OFFSET_S + 3000.0)))
+            .collect::<Vec<_>>(),
     );
+    let p9 = &g9[0].parameters[g9[0].index_at(TABLE5_OFFSET_S + 2500.0)];
+    let critical9 = zigzag_critical_spacing_m(
+        p9.k_c_kg_per_s2,
+        p9.avoidance_radius_m,
+        p9.k_f_kg_per_m_s2 * p9.mu_m.abs(),
+    );
+    let inner: Vec<(f64, f64)> = g9
+        .iter()
+        .map(|t| {
+            let rho: Vec<f64> = t.positions_gao_m[t.times_s.len() - 1]
+                .iter()
+                .map(|q| (q.x * q.x + q.z * q.z).sqrt())
+                .collect();
+            (
+                rho.iter().copied().fold(f64::INFINITY, f64::min),
+                rho.iter().copied().fold(0.0, f64::max),
+            )
+        })
+        .collect();
+    notes.push(format!(
+        "O13: line stage (k_f = 3 kg/(km s²) here, restoring k_f|μ| = 3 N/m): central spacing {line_gap:.1} m \
+         at the stage end against a zigzag-critical spacing of {critical9:.1} m, so the line buckles as \
+         in O10, more (weaker restoring). The double line starts from that line, i.e. from the unstable \
+         ridge z = 0, with growth time k_v/(k_f μ) ≈ 1330 s: 1000 s is not enough. Every satellite goes \
+         to the 0.5 km ring (the Table 4 ellipse, \
+         semi-axes 1 and 0.6 km, lies inside ρ = 1 km), but after 1000 s with ring stiffness \
+         k_f·μ = 1.5 N/m (time constant ≈ 1330 s) the radii still span {:.0}–{:.0} m (median over \
+         seeds of the smallest and largest); satellites that ended the ellipse at x ≈ ±1 km start on \
+         the ridge ρ = 1 km.",
+        median(&inner.iter().map(|x| x.0).collect::<Vec<_>>()),
+        median(&inner.iter().map(|x| x.1).collect::<Vec<_>>()),
+    ));
     Ok(Report {
         title:
             "Gao, Li & Wei 2022, bifurcating potential field (spec gao-bifurcating-potential §6)"
