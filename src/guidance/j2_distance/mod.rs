@@ -354,6 +354,8 @@ struct GroupingStats {
     max_components: usize,
     /// Connected components of the current graph over the live satellites.
     components: usize,
+    /// Time of the first update whose graph was not connected \[s\] (`None` while always connected).
+    first_disconnected_s: Option<f64>,
 }
 
 /// Swarm-level metrics of one instant (see [`J2Distance::instant_metrics`]).
@@ -728,6 +730,7 @@ impl GuidanceLaw for J2Distance {
         self.stats.components = components;
         if components > 1 {
             self.stats.always_connected = false;
+            self.stats.first_disconnected_s.get_or_insert(time_s);
         }
         // CSR neighbour lists.
         let n = swarm.len();
@@ -771,6 +774,32 @@ impl GuidanceLaw for J2Distance {
         } else {
             u
         }
+    }
+
+    /// The fastest linear closed-loop rate of Eq. 15/16 \[1/s\] (independent of mass: the law commands
+    /// accelerations). Per Laplacian eigenvalue λ (spec §3.4, §7.3): the C₁ loop decays at k_A λ/2, the
+    /// C₄ loop at k_A γ_A γ_B² λ/2 (main; k_A γ_A λ/2 for opp) and the C₅ loop at k_z λ. The distance
+    /// loop near r_xyd is slower (about k_B γ_B² λ · 2r_xyd/(r_xyd − r̲) · c₋²/(4k₁²) ≈ 0.023 γ_B² λ with the
+    /// defaults). γ_B is taken at its cap γ_B,max (1 for the §4.1 preset; the theorem design sits there while λ₂ is small, the
+    /// first 1–2 h of the §4.2 runs). λ_max is known only after a grouping, which comes after this
+    /// check, so it is **estimated**, not bounded: λ_max ≤ 2Δ with Δ = 6, the mean degree of a planar
+    /// triangulation (an irregular DT can exceed it; our 100-satellite runs saw λ_max 9.2–13.3, i.e.
+    /// up to 11 % above the estimate). With the defaults this is 0.9 1/s: the 1 s zero-order hold of the
+    /// `ts-*` scenarios runs at T·k ≈ 0.9–1.0 during the capped transient, at the edge of the engine's
+    /// accuracy margin and well inside stability (T·k < 2).
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        let p = &self.parameters;
+        let lambda_max = 12.0;
+        let gamma_b = match p.gain_design {
+            GainDesign::Theorem => p.gamma_b_max,
+            GainDesign::Preset => 1.0,
+        };
+        let c4_stiffness = match p.variant {
+            Variant::Main => p.gamma_a * gamma_b * gamma_b,
+            Variant::Opp => p.gamma_a,
+        };
+        let in_plane = 0.5 * p.gain_a_per_s * c4_stiffness.max(1.0);
+        Some(in_plane.max(p.gain_z_per_s) * lambda_max)
     }
 
     fn metric_names(&self) -> &'static [&'static str] {
@@ -903,6 +932,27 @@ mod tests {
         assert!((-0.23..=-0.18).contains(&g.psi), "{g:?}");
         assert!((-0.93..=-0.76).contains(&g.f0), "{g:?}");
         assert!((-0.12..=-0.10).contains(&g.g0), "{g:?}");
+    }
+
+    #[test]
+    fn val_fastest_rate_is_the_capped_c4_loop() {
+        // Defaults: k_A γ_A γ_B,max² λ̂/2 = 1.5e-2 · 10 · 1 · 12 / 2 = 0.9 1/s (C₁ loop 0.09, z loop 0.06).
+        let law = J2Distance::new(J2DistanceParameters::default()).unwrap();
+        assert!((law.fastest_rate_per_s(0.5).unwrap() - 0.9).abs() < 1e-12);
+        // A stiff z loop dominates when k_z > k_A γ_A γ_B,max² / 2.
+        let law = J2Distance::new(J2DistanceParameters {
+            gain_z_per_s: 0.1,
+            ..J2DistanceParameters::default()
+        })
+        .unwrap();
+        assert!((law.fastest_rate_per_s(0.5).unwrap() - 1.2).abs() < 1e-12);
+        // With γ_A γ_B,max² < 1 the C₁ loop (k_A λ/2) is the fastest in-plane one.
+        let law = J2Distance::new(J2DistanceParameters {
+            gamma_a: 0.5,
+            ..J2DistanceParameters::default()
+        })
+        .unwrap();
+        assert!((law.fastest_rate_per_s(0.5).unwrap() - 0.09).abs() < 1e-12);
     }
 
     #[test]
