@@ -333,17 +333,54 @@ pub fn plane_stats(
     }
 }
 
-/// Per-edge physical distance over the fine samples (the free final orbit of T10/T11): the largest
-/// peak-to-peak over mean \[-\] and the median RMS distance \[m\].
-pub fn edge_distance_stats(run: &TracedRun) -> (f64, f64) {
+/// Per-edge physical distance over the fine samples (the free final orbit of T10/T11).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgeDistanceStats {
+    /// Largest peak-to-peak over mean \[-\].
+    pub worst_p2p: f64,
+    /// Median over edges of peak-to-peak over mean \[-\].
+    pub median_p2p: f64,
+    /// 95th percentile over edges of peak-to-peak over mean \[-\].
+    pub p95_p2p: f64,
+    /// Median over edges of the RMS distance \[m\].
+    pub median_rms_m: f64,
+    /// Largest and median peak-to-peak over mean when each edge's parameters at the start of the free
+    /// orbit are propagated with the averaged-J2 closed form (spec Eq. 5) instead of the truth model,
+    /// at the same sample times \[-\].
+    pub model_p2p: (f64, f64),
+    /// The worst edge at the start of the free orbit: (j, k), |C₁,jk|, |C₄,jk|, r_xy,jk \[m\], and the
+    /// pair's measured Θ̂_P, Θ̂_z-xy \[deg\] (NaN if r_xy ≤ 0.05 m).
+    pub worst_edge: ((usize, usize), f64, f64, f64, f64, f64),
+}
+
+/// [`EdgeDistanceStats`] of a traced run whose fine samples cover the free final orbit.
+pub fn edge_distance_stats(run: &TracedRun) -> EdgeDistanceStats {
     let edges: Vec<(usize, usize)> = run
         .law
         .get("edge_list")
         .and_then(|v| serde_json::from_value(v.clone()).ok())
         .unwrap_or_default();
-    let mut worst: f64 = 0.0;
+    let mut p2p = Vec::with_capacity(edges.len());
     let mut rms = Vec::with_capacity(edges.len());
+    let mut model_p2p = Vec::with_capacity(edges.len());
+    let mut worst = (f64::NEG_INFINITY, (0, 0));
+    let t0 = run.fine_times_s.first().copied().unwrap_or(0.0);
     for (a, b) in edges {
+        if let Some(s0) = run.fine_states.first() {
+            let c = run.model.parameters(&(s0[a] - s0[b]));
+            let d: Vec<f64> = run
+                .fine_times_s
+                .iter()
+                .map(|t| run.model.free_motion(&c, t - t0).fixed_rows::<3>(0).norm())
+                .collect();
+            let mean = d.iter().sum::<f64>() / d.len() as f64;
+            let (lo, hi) = d
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                    (l.min(*x), h.max(*x))
+                });
+            model_p2p.push((hi - lo) / mean);
+        }
         let d: Vec<f64> = run
             .fine_states
             .iter()
@@ -355,10 +392,42 @@ pub fn edge_distance_stats(run: &TracedRun) -> (f64, f64) {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
                 (l.min(*x), h.max(*x))
             });
-        worst = worst.max((hi - lo) / mean);
+        let v = (hi - lo) / mean;
+        if v > worst.0 {
+            worst = (v, (a, b));
+        }
+        p2p.push(v);
         rms.push((d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt());
     }
-    (worst, median(rms))
+    let (a, b) = worst.1;
+    let worst_edge = match run.fine_states.first() {
+        Some(s) if a != b => {
+            let c = run.model.parameters(&(s[a] - s[b]));
+            let (tp, tz) = SwarmPlane::measured_angles_rad(&c, 0.05)
+                .map_or((f64::NAN, f64::NAN), |(p, z)| {
+                    (p.to_degrees(), z.to_degrees())
+                });
+            ((a, b), c.c1_m.abs(), c.c4_m.abs(), c.r_xy_m(), tp, tz)
+        }
+        _ => ((a, b), f64::NAN, f64::NAN, f64::NAN, f64::NAN, f64::NAN),
+    };
+    let mut sorted = p2p.clone();
+    sorted.sort_by(f64::total_cmp);
+    let p95 = sorted
+        .get(((0.95 * sorted.len() as f64).ceil() as usize).saturating_sub(1))
+        .copied()
+        .unwrap_or(f64::NAN);
+    EdgeDistanceStats {
+        worst_p2p: worst.0,
+        median_p2p: median(p2p),
+        p95_p2p: p95,
+        median_rms_m: median(rms),
+        model_p2p: (
+            model_p2p.iter().copied().fold(f64::NAN, f64::max),
+            median(model_p2p),
+        ),
+        worst_edge,
+    }
 }
 
 /// The outage experiment (spec §8) for one run whose links are all cut at `off_s`: per satellite
@@ -463,8 +532,9 @@ fn fmt_h(h: Option<f64>) -> String {
     h.map_or("never".into(), |h| format!("{h:.2} h"))
 }
 
-/// The full reproduction report (about 10 minutes on one core: two 120 h runs of 100 satellites under
-/// truth J2, four 24 h linear runs of 50, two 24 h outage runs of 50 under truth J2).
+/// The full reproduction report (about 4 CPU-minutes, 5 min wall on 2 shared cores: two 120 h runs of
+/// 100 satellites under truth J2, four 24 h linear runs of 50, six 2 h linear runs of 50 for T2 by seed,
+/// eight 4 h Θ2 runs for the split by seed, two 24 h outage runs of 50 under truth J2).
 pub fn report() -> Result<Report, ValidateError> {
     let origin = 0;
     let range_m = 1.0;
@@ -521,6 +591,27 @@ pub fn report() -> Result<Report, ValidateError> {
             && os.growing_fraction >= 0.85
             && ml.median_tconn_1h_h > ol.median_tconn_1h_h,
     ));
+    // T2's large-C1 clause by seed (the spec's §11.2 ranges are over seeds 1–3): the first 2 h suffice
+    // for the median T̂_conn at 1 h.
+    let mut by_seed = Vec::new();
+    for seed in 1..=3u64 {
+        let mut medians = [0.0; 2];
+        for (k, variant) in [Variant::Main, Variant::Opp].into_iter().enumerate() {
+            let mut s = scenario("ts-connectable-large", Some(variant), Some(2.0 * 3600.0))
+                .map_err(failed)?;
+            s.file.seed = seed;
+            let run = traced_run(&s, 60.0, f64::INFINITY).map_err(failed)?;
+            medians[k] = connectable_stats(&run, origin, range_m).median_tconn_1h_h;
+        }
+        by_seed.push(format!(
+            "seed {seed}: main {:.1} h vs opp {:.1} h",
+            medians[0], medians[1]
+        ));
+    }
+    notes.push(format!(
+        "T2 large-C1 clause (median T̂_conn at 1 h larger for main) by seed, ts-connectable-large: {}. The spec prototype's ranges over its seeds 1–3 are main 6–52 h vs opp 2.4–6.4 h; the clause depends on the draw.",
+        by_seed.join("; ")
+    ));
     checks.push(check(
         "T3",
         "§4.1 mean sign changes of C1 per satellite: main ≤ ½ opp, both cases",
@@ -562,9 +653,10 @@ pub fn report() -> Result<Report, ValidateError> {
         at_end.parameters.truncate(keep);
         at_end.mean_accel_m_s2.truncate(keep);
         let stats = plane_stats(&at_end, origin, range_m, 1e-6);
-        let (p2p, rms) = edge_distance_stats(&run);
+        let e = edge_distance_stats(&run);
         let r_avg = 0.5;
-        planes.push((label, tp, tz, stats, p2p, rms / r_avg));
+        let rms = e.median_rms_m / r_avg;
+        planes.push((label, tp, tz, stats, e, rms));
     }
     for (label, tp, tz, st, p2p, rms) in &planes {
         checks.push(check(
@@ -648,8 +740,18 @@ pub fn report() -> Result<Report, ValidateError> {
                 "T10 Θ1",
                 "physical edge distance over one free orbit after 120 h: peak-to-peak / mean < 5 %",
                 "spec prototype: 2.2 %",
-                format!("{:.1} %", 100.0 * p2p),
-                *p2p < 0.05,
+                {
+                    let ((a, b), c1, c4, rxy, tp, tz) = p2p.worst_edge;
+                    format!(
+                        "{:.1} % (median {:.1} %, p95 {:.1} % over edges; worst edge {a}–{b}: |C1| {c1:.1e} m, |C4| {c4:.1e} m, r_xy {rxy:.3} m, Θ̂ {tp:.2}°, {tz:.2}°); the same final states propagated with the averaged-J2 closed form: max {:.1} %, median {:.1} %",
+                        100.0 * p2p.worst_p2p,
+                        100.0 * p2p.median_p2p,
+                        100.0 * p2p.p95_p2p,
+                        100.0 * p2p.model_p2p.0,
+                        100.0 * p2p.model_p2p.1
+                    )
+                },
+                p2p.worst_p2p < 0.05,
             ));
         }
         checks.push(check(
@@ -660,6 +762,27 @@ pub fn report() -> Result<Report, ValidateError> {
             (0.9..=1.05).contains(rms),
         ));
     }
+    // Θ2 split vs the initial draw (seed): the first 4 h of ts-plane-2 for seeds 1–8. A split happens,
+    // if at all, in the saturated transient of the first 2 h (spec §11.2 met the same failure mode with
+    // k_z = k_A); this measures how often the defaults meet it.
+    let mut sweep = Vec::new();
+    for seed in 1..=8u64 {
+        let mut s = scenario("ts-plane-2", None, Some(4.0 * 3600.0)).map_err(failed)?;
+        s.file.seed = seed;
+        let run = traced_run(&s, 3600.0, f64::INFINITY).map_err(failed)?;
+        let g = run.law.get("grouping").cloned().unwrap_or_default();
+        let split_h = g["first_disconnected_s"].as_f64().map(|t| t / 3600.0);
+        sweep.push(format!(
+            "seed {seed}: {}, max|C1| {:.2} m, max|C4| {:.2} m at 4 h",
+            split_h.map_or("connected".into(), |h| format!("split at {h:.2} h")),
+            number(&run.law["max_abs_c1_m"]),
+            number(&run.law["max_abs_c4_m"]),
+        ));
+    }
+    notes.push(format!(
+        "Θ2 (ts-plane-2, defaults) by seed, first 4 h: {}. The split is two halves of about 50 satellites whose mean C1 differ by 0.4–0.5 m; once the grouping no longer links them, each half reaches its own C1 consensus and they drift apart at ε2·ΔC1 ≈ 5 m/h (T4–T9 Θ2 above, seed 1). Law, gains and grouping were checked line by line against spec §5–§9 and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
+        sweep.join("; ")
+    ));
     // Paper claims (qualitative).
     let p = |id: &str, claim: &str, ours: String, pass: bool| {
         check(

@@ -352,7 +352,48 @@ struct GroupingStats {
     always_connected: bool,
     /// Largest number of connected components seen.
     max_components: usize,
+    /// Connected components of the current graph over the live satellites.
+    components: usize,
+    /// Time of the first update whose graph was not connected \[s\] (`None` while always connected).
+    first_disconnected_s: Option<f64>,
 }
+
+/// Swarm-level metrics of one instant (see [`J2Distance::instant_metrics`]).
+#[derive(Clone, Copy, Debug)]
+struct InstantMetrics {
+    /// max |C₁| over live satellites relative to the origin \[m\].
+    max_c1: f64,
+    /// max |C₄| \[m\].
+    max_c4: f64,
+    /// min T̂_conn \[s\].
+    min_t: f64,
+    /// (min, max) measured Θ̂_P over satellites with r_xy > 0.05 m \[deg\] (±∞ if none).
+    theta_p: (f64, f64),
+    /// (min, max) measured Θ̂_z-xy \[deg\].
+    theta_zxy: (f64, f64),
+    /// p5, p50, p95 of the edge ratio r_xy,jk / r_xyd \[-\] (NaN without edges).
+    ratio_percentiles: [f64; 3],
+    /// Fraction of live satellites whose unsaturated command exceeds the limit \[-\].
+    saturated_fraction: f64,
+}
+
+/// Columns of `metrics.csv` the law adds (spec §13 "Recorder and metrics"), in this order.
+const METRIC_NAMES: &[&str] = &[
+    "ts_max_abs_c1_m",
+    "ts_max_abs_c4_m",
+    "ts_theta_p_min_deg",
+    "ts_theta_p_max_deg",
+    "ts_theta_zxy_min_deg",
+    "ts_theta_zxy_max_deg",
+    "ts_edge_ratio_p5",
+    "ts_edge_ratio_p50",
+    "ts_edge_ratio_p95",
+    "ts_min_connectable_time_h",
+    "ts_saturation_fraction",
+    "ts_edges",
+    "ts_components",
+    "ts_edge_changes_total",
+];
 
 /// The `j2-distance` law.
 #[derive(Clone, Debug)]
@@ -484,6 +525,60 @@ impl J2Distance {
             );
         }
         u
+    }
+
+    /// The swarm-level metrics of one instant, relative to the LVLH origin (the reference satellite):
+    /// shared by [`GuidanceLaw::results`] and [`GuidanceLaw::record_metrics`]. `None` before the law
+    /// has started.
+    fn instant_metrics(&self, swarm: &SwarmView<'_>) -> Option<InstantMetrics> {
+        let d = self.derived.as_ref()?;
+        let p = &self.parameters;
+        let mut m = InstantMetrics {
+            max_c1: 0.0,
+            max_c4: 0.0,
+            min_t: f64::INFINITY,
+            theta_p: (f64::INFINITY, f64::NEG_INFINITY),
+            theta_zxy: (f64::INFINITY, f64::NEG_INFINITY),
+            ratio_percentiles: [f64::NAN; 3],
+            saturated_fraction: 0.0,
+        };
+        let mut live = 0usize;
+        let mut saturated = 0usize;
+        for i in (0..swarm.len()).filter(|&i| swarm.active[i]) {
+            live += 1;
+            let c = d.model.parameters(&as6(&swarm.relative_states[i]));
+            m.max_c1 = m.max_c1.max(c.c1_m.abs());
+            m.max_c4 = m.max_c4.max(c.c4_m.abs());
+            m.min_t = m
+                .min_t
+                .min(d.model.connectable_time_s(&c, p.controllable_range_m));
+            if let Some((tp, tz)) = SwarmPlane::measured_angles_rad(&c, 0.05) {
+                let (tp, tz) = (tp.to_degrees(), tz.to_degrees());
+                m.theta_p = (m.theta_p.0.min(tp), m.theta_p.1.max(tp));
+                m.theta_zxy = (m.theta_zxy.0.min(tz), m.theta_zxy.1.max(tz));
+            }
+            let sat = swarm.satellite(i);
+            if self.raw_command(&sat).norm() > p.max_force_n / sat.mass_kg() {
+                saturated += 1;
+            }
+        }
+        let mut ratios: Vec<f64> = self
+            .network
+            .edges
+            .iter()
+            .filter(|(a, b)| swarm.active[*a] && swarm.active[*b])
+            .map(|&(a, b)| {
+                let c = d.model.pair_parameters(
+                    &as6(&swarm.relative_states[a]),
+                    &as6(&swarm.relative_states[b]),
+                );
+                c.r_xy_m() / d.target_amplitude_m
+            })
+            .collect();
+        ratios.sort_by(f64::total_cmp);
+        m.ratio_percentiles = [0.05, 0.5, 0.95].map(|q| percentile(&ratios, q));
+        m.saturated_fraction = saturated as f64 / live.max(1) as f64;
+        Some(m)
     }
 
     /// Grouping period in effect at `time_s` (spec §9.5) \[s\]; infinite for the `once` schedule.
@@ -632,8 +727,10 @@ impl GuidanceLaw for J2Distance {
         }
         self.stats.updates += 1;
         self.stats.max_components = self.stats.max_components.max(components);
+        self.stats.components = components;
         if components > 1 {
             self.stats.always_connected = false;
+            self.stats.first_disconnected_s.get_or_insert(time_s);
         }
         // CSR neighbour lists.
         let n = swarm.len();
@@ -679,6 +776,60 @@ impl GuidanceLaw for J2Distance {
         }
     }
 
+    /// The fastest linear closed-loop rate of Eq. 15/16 \[1/s\] (independent of mass: the law commands
+    /// accelerations). Per Laplacian eigenvalue λ (spec §3.4, §7.3): the C₁ loop decays at k_A λ/2, the
+    /// C₄ loop at k_A γ_A γ_B² λ/2 (main; k_A γ_A λ/2 for opp) and the C₅ loop at k_z λ. The distance
+    /// loop near r_xyd is slower (about k_B γ_B² λ · 2r_xyd/(r_xyd − r̲) · c₋²/(4k₁²) ≈ 0.023 γ_B² λ with the
+    /// defaults). γ_B is taken at its cap γ_B,max (1 for the §4.1 preset; the theorem design sits there while λ₂ is small, the
+    /// first 1–2 h of the §4.2 runs). λ_max is known only after a grouping, which comes after this
+    /// check, so it is **estimated**, not bounded: λ_max ≤ 2Δ with Δ = 6, the mean degree of a planar
+    /// triangulation (an irregular DT can exceed it; our 100-satellite runs saw λ_max 9.2–13.3, i.e.
+    /// up to 11 % above the estimate). With the defaults this is 0.9 1/s: the 1 s zero-order hold of the
+    /// `ts-*` scenarios runs at T·k ≈ 0.9–1.0 during the capped transient, at the edge of the engine's
+    /// accuracy margin and well inside stability (T·k < 2).
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        let p = &self.parameters;
+        let lambda_max = 12.0;
+        let gamma_b = match p.gain_design {
+            GainDesign::Theorem => p.gamma_b_max,
+            GainDesign::Preset => 1.0,
+        };
+        let c4_stiffness = match p.variant {
+            Variant::Main => p.gamma_a * gamma_b * gamma_b,
+            Variant::Opp => p.gamma_a,
+        };
+        let in_plane = 0.5 * p.gain_a_per_s * c4_stiffness.max(1.0);
+        Some(in_plane.max(p.gain_z_per_s) * lambda_max)
+    }
+
+    fn metric_names(&self) -> &'static [&'static str] {
+        METRIC_NAMES
+    }
+
+    /// The time series of the quantities `summary.json` reports at the end (same definitions, see
+    /// [`GuidanceLaw::results`]), plus the current edge count, component count and the cumulative
+    /// edge-set changes. Angles are NaN while no satellite has r_xy > 0.05 m; T̂_conn is in hours
+    /// (`inf` when no satellite drifts).
+    fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]) {
+        let Some(m) = self.instant_metrics(swarm) else {
+            values.fill(f64::NAN);
+            return;
+        };
+        let finite = |v: f64| if v.is_finite() { v } else { f64::NAN };
+        values[0] = m.max_c1;
+        values[1] = m.max_c4;
+        values[2] = finite(m.theta_p.0);
+        values[3] = finite(m.theta_p.1);
+        values[4] = finite(m.theta_zxy.0);
+        values[5] = finite(m.theta_zxy.1);
+        values[6..9].copy_from_slice(&m.ratio_percentiles);
+        values[9] = m.min_t / 3600.0;
+        values[10] = m.saturated_fraction;
+        values[11] = self.network.edges.len() as f64;
+        values[12] = self.stats.components as f64;
+        values[13] = self.stats.edge_changes as f64;
+    }
+
     fn set_parameters(&mut self, parameters: &toml::Table) -> Result<(), LawError> {
         let merged = merge_parameters(self.name(), &self.parameters, parameters)?;
         check(&merged)?;
@@ -706,56 +857,18 @@ impl GuidanceLaw for J2Distance {
     /// and gains.
     fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
         let mut out = BTreeMap::new();
-        let Some(d) = &self.derived else {
+        let (Some(d), Some(m)) = (&self.derived, self.instant_metrics(swarm)) else {
             return out;
         };
-        let p = &self.parameters;
-        let live: Vec<usize> = (0..swarm.len()).filter(|&i| swarm.active[i]).collect();
-        let params: Vec<OrbitParameters> = swarm
-            .relative_states
-            .iter()
-            .map(|s| d.model.parameters(&as6(s)))
-            .collect();
-        let mut max_c1: f64 = 0.0;
-        let mut max_c4: f64 = 0.0;
-        let mut min_t = f64::INFINITY;
-        let (mut tp_lo, mut tp_hi, mut tz_lo, mut tz_hi) = (
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-        );
-        let mut saturated = 0usize;
-        for &i in &live {
-            let c = &params[i];
-            max_c1 = max_c1.max(c.c1_m.abs());
-            max_c4 = max_c4.max(c.c4_m.abs());
-            min_t = min_t.min(d.model.connectable_time_s(c, p.controllable_range_m));
-            if let Some((tp, tz)) = SwarmPlane::measured_angles_rad(c, 0.05) {
-                tp_lo = tp_lo.min(tp.to_degrees());
-                tp_hi = tp_hi.max(tp.to_degrees());
-                tz_lo = tz_lo.min(tz.to_degrees());
-                tz_hi = tz_hi.max(tz.to_degrees());
-            }
-            let sat = swarm.satellite(i);
-            if self.raw_command(&sat).norm() > p.max_force_n / sat.mass_kg() {
-                saturated += 1;
-            }
-        }
-        let mut ratios: Vec<f64> = self
-            .network
-            .edges
-            .iter()
-            .filter(|(a, b)| swarm.active[*a] && swarm.active[*b])
-            .map(|&(a, b)| {
-                let c = d.model.pair_parameters(
-                    &as6(&swarm.relative_states[a]),
-                    &as6(&swarm.relative_states[b]),
-                );
-                c.r_xy_m() / d.target_amplitude_m
-            })
-            .collect();
-        ratios.sort_by(f64::total_cmp);
+        let InstantMetrics {
+            max_c1,
+            max_c4,
+            min_t,
+            theta_p: (tp_lo, tp_hi),
+            theta_zxy: (tz_lo, tz_hi),
+            ratio_percentiles: [r5, r50, r95],
+            saturated_fraction,
+        } = m;
         let json = |v: f64| serde_json::json!(if v.is_finite() { Some(v) } else { None });
         out.insert("max_abs_c1_m".into(), json(max_c1));
         out.insert("max_abs_c4_m".into(), json(max_c4));
@@ -770,16 +883,9 @@ impl GuidanceLaw for J2Distance {
         );
         out.insert(
             "edge_ratio_p5_p50_p95".into(),
-            serde_json::json!([
-                json(percentile(&ratios, 0.05)),
-                json(percentile(&ratios, 0.5)),
-                json(percentile(&ratios, 0.95))
-            ]),
+            serde_json::json!([json(r5), json(r50), json(r95)]),
         );
-        out.insert(
-            "saturation_fraction".into(),
-            json(saturated as f64 / live.len().max(1) as f64),
-        );
+        out.insert("saturation_fraction".into(), json(saturated_fraction));
         out.insert("edges".into(), serde_json::json!(self.network.edges.len()));
         out.insert("edge_list".into(), serde_json::json!(self.network.edges));
         out.insert("target_amplitude_m".into(), json(d.target_amplitude_m));
@@ -826,6 +932,27 @@ mod tests {
         assert!((-0.23..=-0.18).contains(&g.psi), "{g:?}");
         assert!((-0.93..=-0.76).contains(&g.f0), "{g:?}");
         assert!((-0.12..=-0.10).contains(&g.g0), "{g:?}");
+    }
+
+    #[test]
+    fn val_fastest_rate_is_the_capped_c4_loop() {
+        // Defaults: k_A γ_A γ_B,max² λ̂/2 = 1.5e-2 · 10 · 1 · 12 / 2 = 0.9 1/s (C₁ loop 0.09, z loop 0.06).
+        let law = J2Distance::new(J2DistanceParameters::default()).unwrap();
+        assert!((law.fastest_rate_per_s(0.5).unwrap() - 0.9).abs() < 1e-12);
+        // A stiff z loop dominates when k_z > k_A γ_A γ_B,max² / 2.
+        let law = J2Distance::new(J2DistanceParameters {
+            gain_z_per_s: 0.1,
+            ..J2DistanceParameters::default()
+        })
+        .unwrap();
+        assert!((law.fastest_rate_per_s(0.5).unwrap() - 1.2).abs() < 1e-12);
+        // With γ_A γ_B,max² < 1 the C₁ loop (k_A λ/2) is the fastest in-plane one.
+        let law = J2Distance::new(J2DistanceParameters {
+            gamma_a: 0.5,
+            ..J2DistanceParameters::default()
+        })
+        .unwrap();
+        assert!((law.fastest_rate_per_s(0.5).unwrap() - 0.09).abs() < 1e-12);
     }
 
     #[test]
