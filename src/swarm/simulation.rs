@@ -835,7 +835,13 @@ impl Simulation {
         self.apply_due_events()
     }
 
-    fn initialise_law(&mut self) -> Result<(), SimError> {
+    /// Calls `f` with the running law and a whole-swarm view of the truth relative states at `time_s`
+    /// (no navigation noise): the view the law's whole-swarm hooks get.
+    fn with_truth_view<R>(
+        &mut self,
+        time_s: f64,
+        f: impl FnOnce(&mut dyn GuidanceLaw, &SwarmView<'_>) -> R,
+    ) -> R {
         let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
         let plant = Plant::new(
             &self.config,
@@ -843,13 +849,12 @@ impl Simulation {
             self.threat_warning_active,
             self.reference_model,
         );
-        let (view, _) = plant.view(
-            self.time_s,
-            self.state.as_slice(),
-            &mut scratch.sensed,
-            false,
-        );
-        self.law.initialise(&view)?;
+        let (view, _) = plant.view(time_s, self.state.as_slice(), &mut scratch.sensed, false);
+        f(self.law.as_mut(), &view)
+    }
+
+    fn initialise_law(&mut self) -> Result<(), SimError> {
+        self.with_truth_view(self.time_s, |law, view| law.initialise(view))?;
         Ok(())
     }
 
@@ -877,34 +882,13 @@ impl Simulation {
     /// Runs the law's centralised step on the swarm at `time_s` (navigation states without noise: the
     /// centralised step is modelled as having the ground's precise orbit determination).
     fn centralised_update(&mut self, time_s: f64) -> Result<(), SimError> {
-        let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant::new(
-            &self.config,
-            &self.fleet,
-            self.threat_warning_active,
-            self.reference_model,
-        );
-        let (view, _) = plant.view(time_s, self.state.as_slice(), &mut scratch.sensed, false);
-        self.law.centralised_update(&view)?;
+        self.with_truth_view(time_s, |law, view| law.centralised_update(view))?;
         Ok(())
     }
 
     /// The law's results for the summary, from the current (final) swarm.
     pub fn law_results(&mut self) -> BTreeMap<String, serde_json::Value> {
-        let scratch = self.scratch.get_mut().unwrap_or_else(|e| e.into_inner());
-        let plant = Plant::new(
-            &self.config,
-            &self.fleet,
-            self.threat_warning_active,
-            self.reference_model,
-        );
-        let (view, _) = plant.view(
-            self.time_s,
-            self.state.as_slice(),
-            &mut scratch.sensed,
-            false,
-        );
-        self.law.results(&view)
+        self.with_truth_view(self.time_s, |law, view| law.results(view))
     }
 
     /// Totals so far (final after [`Simulation::run`]).
