@@ -3,7 +3,7 @@
 //! the Schweighart–Sedwick drift rate on the J2 truth, PD slot recovery, the agreement of continuous and
 //! sampled control, determinism across thread counts, events and divergence reporting.
 
-use nalgebra::{Vector3, Vector6};
+use nalgebra::Vector3;
 use satflock::guidance::hold::{Feedforward, Hold, HoldParameters};
 use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements, RelativeStateHill};
@@ -72,17 +72,6 @@ fn state(p: [f64; 3], v: [f64; 3]) -> RelativeStateHill {
         position_m: Vector3::from(p),
         velocity_mps: Vector3::from(v),
     }
-}
-
-fn as6(s: &RelativeStateHill) -> Vector6<f64> {
-    Vector6::new(
-        s.position_m.x,
-        s.position_m.y,
-        s.position_m.z,
-        s.velocity_mps.x,
-        s.velocity_mps.y,
-        s.velocity_mps.z,
-    )
 }
 
 /// Keeps the snapshots' relative states and a few totals.
@@ -163,7 +152,7 @@ fn val_constant_thrust_on_hcw_matches_closed_form_and_analytic_delta_v() {
     let t = 2000.0;
     let initial = [state([50.0, -20.0, 10.0], [0.01, -0.02, 0.0])];
     let hcw = Hcw::new(n());
-    let expected = hcw.propagate(&as6(&initial[0]), t) + hcw.control_input_matrix(t) * u;
+    let expected = hcw.propagate(&initial[0].to_vector6(), t) + hcw.control_input_matrix(t) * u;
     for control in [
         ControlTiming::Continuous,
         ControlTiming::Sampled { period_s: 10.0 },
@@ -176,7 +165,7 @@ fn val_constant_thrust_on_hcw_matches_closed_form_and_analytic_delta_v() {
         )
         .unwrap();
         let c = run(&mut sim);
-        let got = as6(&c.states.last().unwrap()[0]);
+        let got = c.states.last().unwrap()[0].to_vector6();
         let position_error = (got - expected).fixed_rows::<3>(0).norm();
         // 1e-6 m on a displacement of ~60 m: RK4 truncation at h = 1 s is ~1e-10 relative.
         assert!(position_error < 1e-6, "{control:?}: {position_error} m");
@@ -271,7 +260,7 @@ fn val_free_drift_hcw_ellipse_bounded_on_hcw_drifts_on_j2_models() {
         earth.equatorial_radius_m,
         earth.j2,
     );
-    let predicted = ss.along_track_drift_mps(&as6(&initial));
+    let predicted = ss.along_track_drift_mps(&initial.to_vector6());
     let omega = ss.omega_xy_rad_s();
     let linear = free_drift_rate(DynamicsModel::J2Linear(ss), initial, 0.0, omega);
     assert!(
@@ -346,7 +335,7 @@ fn val_free_drift_through_the_engine_matches_hcw_within_the_linearisation_error(
     let mut largest_error: f64 = 0.0;
     for (k, t) in c.times.iter().enumerate() {
         for (i, s0) in initial.iter().enumerate() {
-            let predicted = hcw.propagate(&as6(s0), *t);
+            let predicted = hcw.propagate(&s0.to_vector6(), *t);
             let error = (c.states[k][i].position_m
                 - Vector3::new(predicted[0], predicted[1], predicted[2]))
             .norm();

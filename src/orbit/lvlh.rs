@@ -9,7 +9,7 @@
 //! rotation. Both frames rotate together, so `C` maps positions, velocities seen in the rotating frame
 //! and accelerations alike.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3, Vector6};
 
 use super::state::CartesianState;
 
@@ -127,6 +127,23 @@ pub struct RelativeStateHill {
     pub velocity_mps: Vector3<f64>,
 }
 
+impl RelativeStateHill {
+    /// The state as the 6-vector `[x, y, z, vx, vy, vz]` \[m, m/s\], Hill axes: the layout of the
+    /// `relative` models.
+    pub fn to_vector6(&self) -> Vector6<f64> {
+        let (p, v) = (&self.position_m, &self.velocity_mps);
+        Vector6::new(p.x, p.y, p.z, v.x, v.y, v.z)
+    }
+
+    /// The state from the 6-vector `[x, y, z, vx, vy, vz]` \[m, m/s\], Hill axes.
+    pub fn from_vector6(state_hill: &Vector6<f64>) -> Self {
+        Self {
+            position_m: state_hill.fixed_rows::<3>(0).into_owned(),
+            velocity_mps: state_hill.fixed_rows::<3>(3).into_owned(),
+        }
+    }
+}
+
 /// Relative state in Gao's `o-xyz` frame (x along-track, y minus orbit normal, z toward the Earth's
 /// centre).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -171,6 +188,17 @@ impl From<RelativeStateGao> for RelativeStateHill {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn regress_vector6_layout_and_round_trip() {
+        let s = RelativeStateHill {
+            position_m: Vector3::new(1.0, 2.0, 3.0),
+            velocity_mps: Vector3::new(4.0, 5.0, 6.0),
+        };
+        let v = s.to_vector6();
+        assert_eq!(v, Vector6::new(1.0, 2.0, 3.0, 4.0, 5.0, 6.0));
+        assert_eq!(RelativeStateHill::from_vector6(&v), s);
+    }
 
     fn inclined_reference() -> CartesianState {
         CartesianState::new(

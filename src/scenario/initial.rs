@@ -143,18 +143,14 @@ pub fn averaged_j2(
             let c4_m = draw(c4_max_m);
             let c5_m = draw(amplitude_max_m);
             let c6_m = draw(amplitude_max_m);
-            let x = model.state(&OrbitParameters {
+            RelativeStateHill::from_vector6(&model.state(&OrbitParameters {
                 c1_m,
                 c2_m,
                 c3_m,
                 c4_m,
                 c5_m,
                 c6_m,
-            });
-            RelativeStateHill {
-                position_m: Vector3::new(x[0], x[1], x[2]),
-                velocity_mps: Vector3::new(x[3], x[4], x[5]),
-            }
+            }))
         })
         .collect()
 }

@@ -11,7 +11,7 @@
 //! inertial model, two-body for HCW (its circular-orbit assumption) and point mass + J2 for the
 //! J2-linearised model, and no control.
 
-use nalgebra::{Vector3, Vector6};
+use nalgebra::Vector3;
 
 use crate::orbit::{EarthModel, GravityModel};
 use crate::relative::{Hcw, SchweighartSedwick};
@@ -58,25 +58,14 @@ impl DynamicsModel {
                 *velocity_mps,
                 g.acceleration_m_s2(earth, position_m) + control_m_s2,
             ),
-            DynamicsModel::Hcw(m) => {
-                split(m.derivative(&join(position_m, velocity_mps), control_m_s2))
-            }
-            DynamicsModel::J2Linear(m) => {
-                split(m.derivative(&join(position_m, velocity_mps), control_m_s2))
-            }
+            DynamicsModel::Hcw(m) => (
+                *velocity_mps,
+                m.natural_acceleration_m_s2(position_m, velocity_mps) + control_m_s2,
+            ),
+            DynamicsModel::J2Linear(m) => (
+                *velocity_mps,
+                m.natural_acceleration_m_s2(position_m, velocity_mps) + control_m_s2,
+            ),
         }
     }
-}
-
-#[inline]
-fn join(p: &Vector3<f64>, v: &Vector3<f64>) -> Vector6<f64> {
-    Vector6::new(p.x, p.y, p.z, v.x, v.y, v.z)
-}
-
-#[inline]
-fn split(s: Vector6<f64>) -> (Vector3<f64>, Vector3<f64>) {
-    (
-        Vector3::new(s[0], s[1], s[2]),
-        Vector3::new(s[3], s[4], s[5]),
-    )
 }

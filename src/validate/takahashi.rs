@@ -51,24 +51,16 @@ struct TraceRecorder {
     run: TracedRun,
 }
 
-fn as6(s: &RelativeStateHill) -> Vector6<f64> {
-    Vector6::new(
-        s.position_m.x,
-        s.position_m.y,
-        s.position_m.z,
-        s.velocity_mps.x,
-        s.velocity_mps.y,
-        s.velocity_mps.z,
-    )
-}
-
 impl Recorder for TraceRecorder {
     fn record(&mut self, s: &Snapshot<'_>) -> std::io::Result<()> {
         if s.time_s >= self.fine_after_s - 1e-9 {
             self.run.fine_times_s.push(s.time_s);
-            self.run
-                .fine_states
-                .push(s.relative_states.iter().map(as6).collect());
+            self.run.fine_states.push(
+                s.relative_states
+                    .iter()
+                    .map(RelativeStateHill::to_vector6)
+                    .collect(),
+            );
         }
         if s.time_s >= self.next_coarse_s - 1e-9 {
             let dt = s.time_s - self.last_time_s;
@@ -82,7 +74,7 @@ impl Recorder for TraceRecorder {
             self.run.parameters.push(
                 s.relative_states
                     .iter()
-                    .map(|r| self.model.parameters(&as6(r)))
+                    .map(|r| self.model.parameters(&r.to_vector6()))
                     .collect(),
             );
             self.run.mean_accel_m_s2.push(accel);

@@ -405,17 +405,6 @@ pub struct J2Distance {
     stats: GroupingStats,
 }
 
-fn as6(s: &RelativeStateHill) -> Vector6<f64> {
-    Vector6::new(
-        s.position_m.x,
-        s.position_m.y,
-        s.position_m.z,
-        s.velocity_mps.x,
-        s.velocity_mps.y,
-        s.velocity_mps.z,
-    )
-}
-
 impl J2Distance {
     /// Builds the law, checking its parameters.
     pub fn new(parameters: J2DistanceParameters) -> Result<Self, LawError> {
@@ -509,11 +498,11 @@ impl J2Distance {
             return Vector3::zeros();
         }
         let mine = &net.neighbours[net.offsets[j]..net.offsets[j + 1]];
-        let own = as6(&satellite.own_state());
+        let own = satellite.own_state().to_vector6();
         let mut u = Vector3::zeros();
         satellite.for_each_neighbour(|nb| {
             if mine.binary_search(&nb.id).is_ok() {
-                let c = d.model.parameters(&(own - as6(&nb.state)));
+                let c = d.model.parameters(&(own - nb.state.to_vector6()));
                 u += self.pair_term(d, &net.gains, &c);
             }
         });
@@ -546,7 +535,7 @@ impl J2Distance {
         let mut saturated = 0usize;
         for i in (0..swarm.len()).filter(|&i| swarm.active[i]) {
             live += 1;
-            let c = d.model.parameters(&as6(&swarm.relative_states[i]));
+            let c = d.model.parameters(&swarm.relative_states[i].to_vector6());
             m.max_c1 = m.max_c1.max(c.c1_m.abs());
             m.max_c4 = m.max_c4.max(c.c4_m.abs());
             m.min_t = m
@@ -569,8 +558,8 @@ impl J2Distance {
             .filter(|(a, b)| swarm.active[*a] && swarm.active[*b])
             .map(|&(a, b)| {
                 let c = d.model.pair_parameters(
-                    &as6(&swarm.relative_states[a]),
-                    &as6(&swarm.relative_states[b]),
+                    &swarm.relative_states[a].to_vector6(),
+                    &swarm.relative_states[b].to_vector6(),
                 );
                 c.r_xy_m() / d.target_amplitude_m
             })
@@ -661,7 +650,11 @@ impl GuidanceLaw for J2Distance {
         for (k, &i) in live.iter().enumerate() {
             local[i] = k;
         }
-        let states: Vec<Vector6<f64>> = swarm.relative_states.iter().map(as6).collect();
+        let states: Vec<Vector6<f64>> = swarm
+            .relative_states
+            .iter()
+            .map(RelativeStateHill::to_vector6)
+            .collect();
         let nodes: Vec<Node> = live
             .iter()
             .map(|&i| {
