@@ -22,6 +22,7 @@
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![forbid(unsafe_code)]
 
+pub mod grid;
 pub mod guidance;
 pub mod integrate;
 pub mod metrics;
@@ -32,4 +33,3 @@ pub mod relative;
 pub mod run;
 pub mod scenario;
 pub mod swarm;
-pub mod validate;

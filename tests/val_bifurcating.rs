@@ -411,7 +411,7 @@ fn val_command_matches_hand_computation() {
         states.iter().map(|s| s.position_m.y).collect(),
         states.iter().map(|s| s.position_m.z).collect(),
     );
-    let mut grid = satflock::swarm::neighbours::NeighbourGrid::new();
+    let mut grid = satflock::grid::NeighbourGrid::new();
     grid.build(&x, &y, &z, 200.0).unwrap();
     let masses = [100.0; 4];
     let flags = [true; 4];

@@ -10,10 +10,10 @@ use std::f64::consts::PI;
 use nalgebra::{Rotation3, Vector3};
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
+use satflock::grid::NeighbourGrid;
 use satflock::metrics::five_elements::{five_elements, FiveElements, FiveElementsWorkspace};
 use satflock::metrics::separation::min_separation;
 use satflock::metrics::MetricsError;
-use satflock::swarm::neighbours::NeighbourGrid;
 
 /// Five elements of a static snapshot (zero velocities), point satellites.
 fn elements(p: &[[f64; 3]]) -> FiveElements {

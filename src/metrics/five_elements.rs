@@ -27,7 +27,7 @@
 use rayon::prelude::*;
 
 use super::{check_radii, MetricsError};
-use crate::swarm::neighbours::NeighbourGrid;
+use crate::grid::NeighbourGrid;
 
 /// The five elements of a cluster snapshot (spec §2). Lengths in metres, velocities in metres per
 /// second; vectors in the frame of the inputs (ECI per the paper).

@@ -6,11 +6,11 @@
 //! | [`separation`] | minimum centre-to-centre separation and hard-body collision counts |
 //!
 //! Large swarms (N = 1e5) are handled exactly, without O(N²) loops in the common cases: nearest
-//! neighbours come from the cell-list grid [`crate::swarm::neighbours::NeighbourGrid`].
+//! neighbours come from the cell-list grid [`crate::grid::NeighbourGrid`].
 
 use thiserror::Error;
 
-use crate::swarm::neighbours::NeighbourError;
+use crate::grid::NeighbourError;
 
 pub mod five_elements;
 pub mod separation;

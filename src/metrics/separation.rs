@@ -7,7 +7,7 @@
 use rayon::prelude::*;
 
 use super::{check_radii, MetricsError};
-use crate::swarm::neighbours::NeighbourGrid;
+use crate::grid::NeighbourGrid;
 
 /// Separation summary of a swarm snapshot.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

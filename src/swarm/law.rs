@@ -18,9 +18,9 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use thiserror::Error;
 
+use crate::grid::NeighbourGrid;
 use crate::orbit::RelativeStateHill;
 use crate::relative::SchweighartSedwick;
-use crate::swarm::neighbours::NeighbourGrid;
 
 /// Swarm-level information granted to every satellite (ground warnings, broadcast quantities).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -9,16 +9,16 @@ pub mod actuator;
 pub mod dynamics;
 pub mod events;
 pub mod law;
-pub mod neighbours;
+
 pub mod recorder;
 pub mod simulation;
 pub mod state;
 
+pub use crate::grid::NeighbourGrid;
 pub use actuator::{Actuator, LimitKind};
 pub use dynamics::DynamicsModel;
 pub use events::{Event, EventAction, Selection, ThrustAxis};
 pub use law::{GuidanceLaw, LawError, Neighbour, SatelliteView, SharedInfo, SwarmView};
-pub use neighbours::NeighbourGrid;
 pub use recorder::{NullRecorder, Recorder, Snapshot};
 pub use simulation::{
     ControlTiming, Origin, RunTotals, SatelliteInit, Sensing, SimError, Simulation,

@@ -27,6 +27,7 @@ use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 use thiserror::Error;
 
+use crate::grid::NeighbourGrid;
 use crate::integrate::{
     AdaptiveStepper, Dop853, IntegrateError, IntegratorMethod, OdeSystem, Rk4, Rkf78, Tolerances,
 };
@@ -37,7 +38,6 @@ use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::events::{Event, EventAction, ThrustAxis};
 use crate::swarm::law::{GuidanceLaw, LawError, SharedInfo, SwarmView};
-use crate::swarm::neighbours::NeighbourGrid;
 use crate::swarm::recorder::{Recorder, Snapshot};
 use crate::swarm::state::{
     ledger_index, reference_of, satellite_index, satellite_of, SwarmState, LEDGER_COMPONENTS,

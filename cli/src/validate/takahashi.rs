@@ -11,12 +11,12 @@ use std::collections::BTreeMap;
 
 use nalgebra::Vector6;
 
-use crate::guidance::j2_distance::Variant;
-use crate::guidance::LawConfig;
-use crate::orbit::RelativeStateHill;
-use crate::relative::j2_averaged::{AveragedJ2, OrbitParameters, SwarmPlane};
-use crate::scenario::Scenario;
-use crate::swarm::{Recorder, Simulation, Snapshot};
+use satflock::guidance::j2_distance::Variant;
+use satflock::guidance::LawConfig;
+use satflock::orbit::RelativeStateHill;
+use satflock::relative::j2_averaged::{AveragedJ2, OrbitParameters, SwarmPlane};
+use satflock::scenario::Scenario;
+use satflock::swarm::{Recorder, Simulation, Snapshot};
 
 use super::{Check, Report, ValidateError, Verdict};
 
@@ -627,12 +627,14 @@ pub fn report() -> Result<Report, ValidateError> {
         // Propagate freely for one orbit after the end: cut every link (the law then commands 0).
         s.file.duration_s = end + orbit_s.ceil();
         s.file.record_interval_s = 60.0;
-        s.file.events.push(crate::scenario::schema::EventSection {
-            time_s: end,
-            action: crate::scenario::schema::ActionSection::CutLinks {
-                satellites: crate::scenario::schema::SelectionSection::Word("all".into()),
-            },
-        });
+        s.file
+            .events
+            .push(satflock::scenario::schema::EventSection {
+                time_s: end,
+                action: satflock::scenario::schema::ActionSection::CutLinks {
+                    satellites: satflock::scenario::schema::SelectionSection::Word("all".into()),
+                },
+            });
         let run = traced_run(&s, 1800.0, end).map_err(failed)?;
         // Statistics at 120 h (before the free orbit): trim the coarse samples.
         let mut at_end = run.clone();

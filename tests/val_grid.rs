@@ -1,4 +1,4 @@
-//! Validation of `swarm::neighbours::NeighbourGrid` against brute-force all-pairs search.
+//! Validation of `grid::NeighbourGrid` against brute-force all-pairs search.
 //!
 //! The reference is an independent O(N²) loop using the grid's documented inclusion rule,
 //! `sqrt(dx² + dy² + dz²) <= r` with `dx = x[j] - x[i]` in f64, so neighbour sets, separation vectors and
@@ -7,7 +7,7 @@
 use proptest::prelude::*;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
-use satflock::swarm::neighbours::{GridLayout, Neighbour, NeighbourError, NeighbourGrid};
+use satflock::grid::{GridLayout, Neighbour, NeighbourError, NeighbourGrid};
 
 /// A random swarm of `n` satellites (m). Modes: 0 clustered (a few tight clusters 1 km apart),
 /// 1 sparse (spread over 200 km), 2 integer lattice (many pairs exactly at integer radii),

@@ -261,14 +261,14 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
 
 fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {
     if list {
-        for (name, what) in satflock::validate::TARGETS {
+        for (name, what) in satflock_cli::validate::TARGETS {
             println!("{name:<12} {what}");
         }
         return Ok(());
     }
     let target = target.unwrap_or_default();
-    let report = satflock::validate::run(target).map_err(|e| match e {
-        satflock::validate::ValidateError::UnknownTarget { .. } => usage(e.to_string()),
+    let report = satflock_cli::validate::run(target).map_err(|e| match e {
+        satflock_cli::validate::ValidateError::UnknownTarget { .. } => usage(e.to_string()),
         other => anyhow::Error::from(other),
     })?;
     if json {

@@ -4,11 +4,11 @@
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
-use crate::integrate::{IntegratorMethod, Tolerances};
-use crate::orbit::{CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame};
-use crate::propagate::{propagate, PropagationSettings};
-use crate::relative::{Hcw, SchweighartSedwick};
 use crate::validate::{Check, Report, ValidateError, Verdict};
+use satflock::integrate::{IntegratorMethod, Tolerances};
+use satflock::orbit::{CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame};
+use satflock::propagate::{propagate, PropagationSettings};
+use satflock::relative::{Hcw, SchweighartSedwick};
 
 const DAY_S: f64 = 86_400.0;
 
@@ -207,7 +207,7 @@ fn relative_motion(checks: &mut Vec<Check>, notes: &mut Vec<String>) -> Result<(
 
     // C6: HCW vs two-body truth, 100 m, one orbit.
     let chief = orbit(a, 0.0, 98.0, 20.0)?;
-    let rel0 = crate::orbit::RelativeStateHill {
+    let rel0 = satflock::orbit::RelativeStateHill {
         position_m: Vector3::new(60.0, 50.0, 60.0),
         velocity_mps: Vector3::new(0.01, hcw.no_drift_velocity_y_mps(60.0), 0.02),
     };
@@ -261,7 +261,7 @@ fn relative_motion(checks: &mut Vec<Check>, notes: &mut Vec<String>) -> Result<(
     let mut rates = Vec::new();
     for u0 in [0.0, 90.0] {
         let chief = orbit(a, 0.0, 97.8, u0)?;
-        let rel = crate::orbit::RelativeStateHill {
+        let rel = satflock::orbit::RelativeStateHill {
             position_m: Vector3::new(x_off, 0.0, 0.0),
             velocity_mps: Vector3::new(0.0, state[4], 0.0),
         };

@@ -1,11 +1,11 @@
 //! Release-mode reproductions of Gao, Li & Wei 2022 (spec `gao-bifurcating-potential.md` §6), sized for
-//! CI: the same code as `satflock validate gao` (`satflock::validate::gao`), on the built-in `gao-*`
+//! CI: the same code as `satflock validate gao` (`satflock_cli::validate::gao`), on the built-in `gao-*`
 //! scenarios, with the spec's tolerances. Seed-dependent outcomes use 5 seeds and test the median.
 //! The full-length set (G1/G2 lines, G5, G6, the whole Table 4 sequence, every Fig. 19 shape) is in
 //! `satflock validate gao`; O9–O12 are in `tests/regress_gao_shapes.rs` (3 seeds).
 
 use satflock::orbit::GravityModel;
-use satflock::validate::gao::{
+use satflock_cli::validate::gao::{
     median, ring_assignment, run_seeds, stage_end_error, table5_centre_errors, Trace, SEEDS,
 };
 

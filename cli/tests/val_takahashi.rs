@@ -5,7 +5,7 @@
 //! of §8 (switch-off at 1 h, 5 h of free drift).
 
 use satflock::guidance::j2_distance::Variant;
-use satflock::validate::takahashi::{
+use satflock_cli::validate::takahashi::{
     connectable_stats, outage_stats, plane_stats, scenario, traced_run,
 };
 

@@ -1,10 +1,10 @@
 //! Release-mode reproductions of Gao, Li & Wei 2022 (spec `gao-bifurcating-potential.md` §6) for the
 //! shapes outcomes O9–O13, sized for CI: the same code as `satflock validate gao`
-//! (`satflock::validate::gao`), on the built-in `gao-*` scenarios, 3 seeds (1–3) where the outcome is
+//! (`satflock_cli::validate::gao`), on the built-in `gao-*` scenarios, 3 seeds (1–3) where the outcome is
 //! seed-dependent, median tested, with the spec's tolerances. The runs of one test go over the cores
 //! whole (`run_all`), one single-thread run per core.
 
-use satflock::validate::gao::{
+use satflock_cli::validate::gao::{
     central_line_spacing_m, filled_shape, line_distance_m, median, ring_assignment, run_all,
     run_seeds, zigzag_critical_spacing_m, Trace, G6_LONG_S,
 };

@@ -7,17 +7,17 @@
 
 use nalgebra::Vector3;
 
-use crate::guidance::bifurcating::{BifurcatingParameters, ShapeError};
-use crate::guidance::parameters::merge_parameters;
-use crate::guidance::LawConfig;
-use crate::integrate::{IntegratorMethod, Tolerances};
-use crate::metrics::{five_elements, FiveElements, FiveElementsWorkspace};
-use crate::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel};
-use crate::propagate::{propagate, PropagationSettings};
-use crate::scenario::schema::ActionSection;
-use crate::scenario::Scenario;
-use crate::swarm::{Recorder, Simulation, Snapshot};
 use crate::validate::{Check, Report, ValidateError, Verdict};
+use satflock::guidance::bifurcating::{BifurcatingParameters, ShapeError};
+use satflock::guidance::parameters::merge_parameters;
+use satflock::guidance::LawConfig;
+use satflock::integrate::{IntegratorMethod, Tolerances};
+use satflock::metrics::{five_elements, FiveElements, FiveElementsWorkspace};
+use satflock::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel};
+use satflock::propagate::{propagate, PropagationSettings};
+use satflock::scenario::schema::ActionSection;
+use satflock::scenario::Scenario;
+use satflock::swarm::{Recorder, Simulation, Snapshot};
 
 /// Seeds of the seed-dependent reproductions (spec §6: at least 5, median reported).
 pub const SEEDS: [u64; 5] = [1, 2, 3, 4, 5];
@@ -362,7 +362,7 @@ pub fn filled_shape(trace: &Trace, k: usize) -> FilledShape {
         })
         .collect();
     let max = coordinates.iter().copied().fold(0.0, f64::max);
-    let planar = p.dimension == crate::guidance::bifurcating::Dimension::Planar;
+    let planar = p.dimension == satflock::guidance::bifurcating::Dimension::Planar;
     // Semi-axes of a level set of ρ are ∝ (a, b) along (x, z) in 2-D and (a, b, c) along (x, y, z) in
     // 3-D (spec §3.4 table), so RMS extent / factor is the same on every axis for a filled level set.
     let rms = |f: fn(&Vector3<f64>) -> f64| {
