@@ -13,8 +13,8 @@ use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements};
 use satflock::scenario::initial;
 use satflock::swarm::{
-    Actuator, ControlTiming, DynamicsModel, GuidanceLaw, LawError, LimitKind, Origin,
-    SatelliteInit, SatelliteView, Sensing, Simulation, SimulationConfig, SwarmView,
+    Actuator, ControlTiming, DynamicsModel, GuidanceLaw, Law, LawContext, LawError, LimitKind,
+    Origin, SatelliteInit, SatelliteView, Sensing, Simulation, SimulationConfig, SwarmView,
 };
 
 /// `hold` plus a linear spring repulsion from every neighbour within the sensing range.
@@ -25,21 +25,24 @@ struct HoldAndRepel {
 }
 
 impl GuidanceLaw for HoldAndRepel {
+    type State = ();
+    type Parameters = HoldParameters;
+
     fn name(&self) -> &'static str {
         "hold-and-repel"
     }
-    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
-        self.hold.initialise(swarm)
+    fn initialise(&mut self, swarm: &SwarmView<'_>, states: &mut [()]) -> Result<(), LawError> {
+        self.hold.initialise(swarm, states)
     }
-    fn command_m_s2(&self, s: &SatelliteView<'_>) -> Vector3<f64> {
-        let mut u = self.hold.command_m_s2(s);
+    fn command(&self, s: &SatelliteView<'_>, state: &(), context: &LawContext) -> Vector3<f64> {
+        let mut u = self.hold.command(s, state, context);
         s.for_each_neighbour(|nb| {
             u -= self.gain_per_s2 * (self.range_m - nb.distance_m) * nb.offset_m
                 / nb.distance_m.max(1e-9);
         });
         u
     }
-    fn set_parameters(&mut self, p: &toml::Table) -> Result<(), LawError> {
+    fn set_parameters(&mut self, p: &HoldParameters) -> Result<(), LawError> {
         self.hold.set_parameters(p)
     }
 }
@@ -93,6 +96,9 @@ fn simulation(n: usize) -> Simulation {
             position_noise_m: 0.0,
             velocity_noise_mps: 0.0,
         },
+        process_noise_m_s2: 0.0,
+        threats: vec![],
+        obstacles: vec![],
         max_distance_m: 1e7,
         seed: 1,
     };
@@ -107,7 +113,7 @@ fn simulation(n: usize) -> Simulation {
         range_m,
         gain_per_s2: 1e-7,
     };
-    Simulation::new(config, &satellites, Box::new(law), vec![]).unwrap()
+    Simulation::new(config, &satellites, Law::new(law), vec![]).unwrap()
 }
 
 fn engine_step(c: &mut Criterion) {

@@ -3,25 +3,31 @@
 //! Simulate and steer satellite swarms and clusters in Earth orbit under J2, each satellite running a
 //! distributed guidance law.
 //!
-//! The crate is layered; data flows one way (see `DESIGN.md`):
+//! Start with [`prelude`]: `use satflock::prelude::*;` brings the scenario loader, the engine, the law
+//! interface and the physics types a user needs.
 //!
-//! | module | holds |
-//! | --- | --- |
-//! | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
-//! | [`integrate`] | fixed-step RK4, adaptive RKF7(8) and DOP853 over state vectors of any length |
-//! | [`relative`] | Hill-Clohessy-Wiltshire and J2-linearised (Schweighart-Sedwick) relative motion |
-//! | [`swarm`] | the engine: SoA state, neighbour grid, dynamics, actuators, events, law interface, loop |
-//! | [`guidance`] | the guidance laws and their registry |
-//! | [`metrics`] | five-element cluster characterisation (N, r_o/v_o, d_max, d_min, L), separation and collision counts |
-//! | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
-//! | [`output`] | streamed CSV recorder and the JSON run summary |
-//! | [`propagate`] | propagation of single orbits with outputs at exact times (`satflock propagate`) |
-//! | [`run`] | a scenario end to end: validate, simulate, write the outputs (`satflock run`) |
-//! | [`validate`] | full-length reproductions against papers and analytic references (`satflock validate`) |
+//! The crate is layered; data flows one way and no module imports one above it (see `DESIGN.md`):
+//!
+//! | layer | module | holds |
+//! | --- | --- | --- |
+//! | physics | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
+//! | physics | [`integrate`] | RK4, adaptive RKF7(8) and DOP853 over state vectors of any length; a run-time [`integrate::Stepper`] |
+//! | physics | [`relative`] | Hill-Clohessy-Wiltshire, J2-linearised (Schweighart-Sedwick) and averaged-J2 relative motion |
+//! | support | [`random`] | every random draw of a run: one stream per (seed, purpose, satellite, tick) |
+//! | support | [`grid`] | the cell-list neighbour grid (radius and nearest queries) |
+//! | support | [`environment`] | threats, obstacles and the continuous closest-approach geometry |
+//! | support | [`metrics`] | five-element cluster characterisation, separation and collision counts |
+//! | engine | [`swarm`] | the law interface, the simulation (sensing, propagation, scheduler, events, monitors, snapshots) |
+//! | laws | [`guidance`] | the guidance laws and their registry |
+//! | input | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
+//! | output | [`output`] | streamed CSV recorder and the JSON run summary |
+//! | front | [`propagate`], [`run`] | single-orbit propagation; a scenario end to end |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
+pub mod environment;
 pub mod grid;
 pub mod guidance;
 pub mod integrate;
@@ -29,7 +35,25 @@ pub mod metrics;
 pub mod orbit;
 pub mod output;
 pub mod propagate;
+pub mod random;
 pub mod relative;
 pub mod run;
 pub mod scenario;
 pub mod swarm;
+
+/// What most users need, in one import: `use satflock::prelude::*;`.
+pub mod prelude {
+    pub use crate::environment::{Obstacle, Threat};
+    pub use crate::guidance::LawConfig;
+    pub use crate::orbit::{
+        CartesianState, EarthModel, GravityModel, KeplerianElements, RelativeStateHill,
+    };
+    pub use crate::random::{Purpose, RandomStream};
+    pub use crate::run::{build_simulation, run_scenario, RunError};
+    pub use crate::scenario::{Scenario, ScenarioError};
+    pub use crate::swarm::{
+        Actuator, Broadcast, CommandKind, ControlTiming, DynamicsModel, GuidanceLaw, Law,
+        LawContext, LawError, LimitKind, NullRecorder, Recorder, SatelliteInit, SatelliteView,
+        SimError, Simulation, SimulationConfig, Snapshot, SwarmView,
+    };
+}

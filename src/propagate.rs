@@ -3,9 +3,8 @@
 
 use thiserror::Error;
 
-use crate::integrate::{
-    AdaptiveStepper, Dop853, IntegrateError, IntegratorMethod, Rk4, Rkf78, Tolerances,
-};
+use crate::integrate::{IntegrateError, IntegratorMethod, Stepper, Tolerances};
+
 use crate::orbit::{CartesianState, EarthModel, GravityModel};
 
 /// How to propagate.
@@ -102,11 +101,12 @@ pub fn propagate(
         }
     };
     visit(0.0, &states);
-    let mut rk4 = Rk4::new(6 * m);
-    let mut rk78 = AdaptiveStepper::<Rkf78>::new(6 * m, settings.tolerances);
-    rk78.set_max_step_s(settings.step_s);
-    let mut dop853 = AdaptiveStepper::<Dop853>::new(6 * m, settings.tolerances);
-    dop853.set_max_step_s(settings.step_s);
+    let mut stepper = Stepper::new(
+        settings.integrator,
+        6 * m,
+        settings.tolerances,
+        settings.step_s,
+    );
     let outputs = (settings.duration_s / settings.output_step_s).floor() as u64;
     let mut t = 0.0;
     let mut k = 1;
@@ -120,15 +120,7 @@ pub fn propagate(
         if next <= t {
             break;
         }
-        match settings.integrator {
-            IntegratorMethod::Rk4 => rk4.integrate(&rhs, t, next, &mut y, settings.step_s),
-            IntegratorMethod::Rk78 => {
-                rk78.integrate(&rhs, t, next, &mut y)?;
-            }
-            IntegratorMethod::Dop853 => {
-                dop853.integrate(&rhs, t, next, &mut y)?;
-            }
-        }
+        stepper.advance(&rhs, t, next, &mut y, settings.step_s)?;
         t = next;
         unpack(&y, &mut states);
         visit(t, &states);

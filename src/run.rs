@@ -7,8 +7,8 @@ use std::time::Instant;
 
 use thiserror::Error;
 
-use crate::output::summary::FinalState;
-use crate::output::{CsvRecorder, DeltaVSummary, RunStatus, RunSummary};
+use crate::output::summary::{EnvironmentSummary, FinalState};
+use crate::output::{CsvColumns, CsvRecorder, DeltaVSummary, RunStatus, RunSummary};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{SimError, Simulation};
 
@@ -30,6 +30,18 @@ pub enum RunError {
         /// What the system said.
         message: String,
     },
+}
+
+/// Builds the simulation of a scenario in one call (validated; nothing written): the embedding entry
+/// point for tools that drive the run themselves with [`Simulation::advance_to`].
+pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
+    let prepared = scenario.prepare()?;
+    Ok(Simulation::new(
+        prepared.config,
+        &prepared.satellites,
+        prepared.law,
+        prepared.events,
+    )?)
 }
 
 /// Runs a scenario, writing `metrics.csv`, `trajectory.csv` (unless the scenario turns it off) and
@@ -63,12 +75,14 @@ pub fn run_scenario(
     )?;
     // The output directory is created only once the run can start.
     std::fs::create_dir_all(out_dir).map_err(|e| output_error(out_dir, e))?;
-    let mut recorder = CsvRecorder::create(
-        out_dir,
-        prepared.write_trajectory,
-        &simulation.law_metric_names(),
-    )
-    .map_err(|e| output_error(out_dir, e))?;
+    let columns = CsvColumns {
+        threats: !simulation.config().threats.is_empty(),
+        obstacles: !simulation.config().obstacles.is_empty(),
+        law_metrics: simulation.law_metric_names(),
+        law_outputs: simulation.law_output_names(),
+    };
+    let mut recorder = CsvRecorder::create(out_dir, prepared.write_trajectory, columns)
+        .map_err(|e| output_error(out_dir, e))?;
     let started = Instant::now();
     let outcome = simulation.run(&mut recorder, progress);
     let wall_time_s = started.elapsed().as_secs_f64();
@@ -111,6 +125,24 @@ pub fn run_scenario(
         collisions: totals.max_collisions,
         final_state: FinalState {
             five_elements: totals.final_five_elements,
+        },
+        environment: {
+            let config = simulation.config();
+            (!(config.threats.is_empty() && config.obstacles.is_empty())).then(|| {
+                EnvironmentSummary::new(
+                    simulation.approach_monitor(),
+                    config
+                        .threats
+                        .iter()
+                        .map(|t| t.name().to_string())
+                        .collect(),
+                    config
+                        .obstacles
+                        .iter()
+                        .map(|o| o.name().to_string())
+                        .collect(),
+                )
+            })
         },
         law: law_results,
         metadata,

@@ -9,9 +9,9 @@ use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements, RelativeStateHill};
 use satflock::relative::{Hcw, SchweighartSedwick};
 use satflock::swarm::{
-    Actuator, ControlTiming, DynamicsModel, Event, EventAction, GuidanceLaw, LawError, LimitKind,
-    NullRecorder, Origin, Recorder, SatelliteInit, SatelliteView, Selection, Sensing, SimError,
-    Simulation, SimulationConfig, Snapshot,
+    Actuator, ControlTiming, DynamicsModel, Event, EventAction, GuidanceLaw, Law, LawContext,
+    LawError, LimitKind, NullRecorder, Origin, Recorder, SatelliteInit, SatelliteView, Selection,
+    Sensing, SimError, Simulation, SimulationConfig, Snapshot,
 };
 
 const A_M: f64 = 6_978_137.0;
@@ -46,6 +46,9 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
             position_noise_m: 0.0,
             velocity_noise_mps: 0.0,
         },
+        process_noise_m_s2: 0.0,
+        threats: vec![],
+        obstacles: vec![],
         max_distance_m: 1e6,
         seed: 5,
     }
@@ -97,13 +100,15 @@ impl Recorder for Collect {
 struct ConstantThrust(Vector3<f64>);
 
 impl GuidanceLaw for ConstantThrust {
+    type State = ();
+    type Parameters = ();
     fn name(&self) -> &'static str {
         "constant-thrust"
     }
-    fn command_m_s2(&self, _s: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(&self, _s: &SatelliteView<'_>, _state: &(), _context: &LawContext) -> Vector3<f64> {
         self.0
     }
-    fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+    fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
 }
@@ -112,21 +117,23 @@ impl GuidanceLaw for ConstantThrust {
 struct CountNeighbours;
 
 impl GuidanceLaw for CountNeighbours {
+    type State = ();
+    type Parameters = ();
     fn name(&self) -> &'static str {
         "count-neighbours"
     }
-    fn command_m_s2(&self, s: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(&self, s: &SatelliteView<'_>, _state: &(), _context: &LawContext) -> Vector3<f64> {
         let mut count = 0.0;
         s.for_each_neighbour(|_| count += 1.0);
         Vector3::new(1e-6 * count, 0.0, 0.0)
     }
-    fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+    fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
 }
 
-fn hold(kp: f64, kd: f64) -> Box<dyn GuidanceLaw> {
-    Box::new(
+fn hold(kp: f64, kd: f64) -> Law {
+    Law::new(
         Hold::new(HoldParameters {
             stiffness_per_s2: kp,
             damping_per_s: kd,
@@ -160,7 +167,7 @@ fn val_constant_thrust_on_hcw_matches_closed_form_and_analytic_delta_v() {
         let mut sim = Simulation::new(
             config(DynamicsModel::Hcw(hcw), control, t),
             &satellites(&initial),
-            Box::new(ConstantThrust(u)),
+            Law::new(ConstantThrust(u)),
             vec![],
         )
         .unwrap();
@@ -207,7 +214,7 @@ fn free_drift_rate(
     let mut sim = Simulation::new(
         cfg,
         &satellites(&[initial]),
-        Box::new(ConstantThrust(Vector3::zeros())),
+        Law::new(ConstantThrust(Vector3::zeros())),
         vec![],
     )
     .unwrap();
@@ -244,7 +251,7 @@ fn val_free_drift_hcw_ellipse_bounded_on_hcw_drifts_on_j2_models() {
             5.0 * period,
         ),
         &satellites(&[initial]),
-        Box::new(ConstantThrust(Vector3::zeros())),
+        Law::new(ConstantThrust(Vector3::zeros())),
         vec![],
     )
     .unwrap();
@@ -327,7 +334,7 @@ fn val_free_drift_through_the_engine_matches_hcw_within_the_linearisation_error(
     let mut sim = Simulation::new(
         cfg,
         &satellites(&initial),
-        Box::new(satflock::guidance::free_drift::FreeDrift),
+        Law::new(satflock::guidance::free_drift::FreeDrift),
         vec![],
     )
     .unwrap();
@@ -425,9 +432,17 @@ fn val_stiff_gain_with_long_period_is_refused_with_a_reason() {
         vec![],
     );
     match result {
-        Err(SimError::InvalidSetup(message)) => {
-            assert!(message.contains("control period 10 s"), "{message}");
-            assert!(message.contains("control.period_s"), "{message}");
+        Err(e @ SimError::ControlPeriodTooLong { .. }) => {
+            let SimError::ControlPeriodTooLong {
+                period_s, limit_s, ..
+            } = e
+            else {
+                unreachable!()
+            };
+            assert_eq!(period_s, 10.0);
+            assert!(limit_s < 1.1 && limit_s > 0.9, "limit {limit_s} s");
+            assert!(e.is_setup());
+            assert!(e.to_string().contains("control period 10 s"), "{e}");
         }
         Err(other) => panic!("wrong error: {other}"),
         Ok(_) => panic!("a 10 s hold of a 1/s law was accepted"),
@@ -467,7 +482,7 @@ fn val_same_seed_same_result_on_any_thread_count() {
         cfg.sensing.range_m = 30.0;
         let sats = satellites(&states);
         let bits = pool.install(|| {
-            let mut sim = Simulation::new(cfg, &sats, Box::new(CountNeighbours), vec![]).unwrap();
+            let mut sim = Simulation::new(cfg, &sats, Law::new(CountNeighbours), vec![]).unwrap();
             sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
             sim.state()
                 .as_slice()
@@ -510,7 +525,7 @@ fn val_events_remove_satellites_and_cut_links() {
     let mut sim = Simulation::new(
         cfg,
         &satellites(&initial),
-        Box::new(CountNeighbours),
+        Law::new(CountNeighbours),
         events,
     )
     .unwrap();
@@ -529,17 +544,24 @@ fn val_divergence_names_the_satellite_and_the_time() {
     // ≈ 44.5 s, detected at the end of that 1 s step.
     struct PushOne;
     impl GuidanceLaw for PushOne {
+        type State = ();
+        type Parameters = ();
         fn name(&self) -> &'static str {
             "push-one"
         }
-        fn command_m_s2(&self, s: &SatelliteView<'_>) -> Vector3<f64> {
+        fn command(
+            &self,
+            s: &SatelliteView<'_>,
+            _state: &(),
+            _context: &LawContext,
+        ) -> Vector3<f64> {
             if s.id() == 1 {
                 Vector3::new(0.0, 1.0, 0.0)
             } else {
                 Vector3::zeros()
             }
         }
-        fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+        fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
             Ok(())
         }
     }
@@ -550,7 +572,7 @@ fn val_divergence_names_the_satellite_and_the_time() {
         1000.0,
     );
     cfg.max_distance_m = 1000.0;
-    let mut sim = Simulation::new(cfg, &satellites(&initial), Box::new(PushOne), vec![]).unwrap();
+    let mut sim = Simulation::new(cfg, &satellites(&initial), Law::new(PushOne), vec![]).unwrap();
     match sim.run(&mut NullRecorder, &mut |_| {}) {
         Err(SimError::Diverged {
             satellite, time_s, ..
@@ -569,6 +591,8 @@ struct CentralisedCounter {
 }
 
 impl GuidanceLaw for CentralisedCounter {
+    type State = ();
+    type Parameters = ();
     fn name(&self) -> &'static str {
         "centralised-counter"
     }
@@ -582,10 +606,10 @@ impl GuidanceLaw for CentralisedCounter {
         self.live_count = swarm.active.iter().filter(|a| **a).count();
         Ok(())
     }
-    fn command_m_s2(&self, _s: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(&self, _s: &SatelliteView<'_>, _state: &(), _context: &LawContext) -> Vector3<f64> {
         Vector3::new(1e-6 * self.live_count as f64, 0.0, 0.0)
     }
-    fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+    fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
 }
@@ -604,7 +628,7 @@ fn regress_centralised_step_runs_on_its_schedule_in_both_modes() {
             time_s: 15.0,
             action: EventAction::RemoveSatellite(1),
         }];
-        let mut sim = Simulation::new(cfg, &satellites(&states), Box::new(law), events).unwrap();
+        let mut sim = Simulation::new(cfg, &satellites(&states), Law::new(law), events).unwrap();
         sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
         // satellite 0 was commanded 2e-6 m/s² for t in [0, 20) and 1e-6 m/s² for [20, 35): the count is
         // refreshed at 20 s, not at the removal (15 s). Delta-v = 2e-6·20 + 1e-6·15 = 5.5e-5 m/s.
@@ -618,19 +642,26 @@ fn regress_centralised_step_runs_on_its_schedule_in_both_modes() {
 struct Clocked(&'static [&'static str], f64);
 
 impl GuidanceLaw for Clocked {
+    type State = ();
+    type Parameters = ();
     fn name(&self) -> &'static str {
         "clocked"
     }
-    fn command_m_s2(&self, _s: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(&self, _s: &SatelliteView<'_>, _state: &(), _context: &LawContext) -> Vector3<f64> {
         Vector3::zeros()
     }
-    fn set_parameters(&mut self, _p: &toml::Table) -> Result<(), LawError> {
+    fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
     fn metric_names(&self) -> &'static [&'static str] {
         self.0
     }
-    fn record_metrics(&mut self, swarm: &satflock::swarm::SwarmView<'_>, values: &mut [f64]) {
+    fn record_metrics(
+        &mut self,
+        swarm: &satflock::swarm::SwarmView<'_>,
+        _states: &[()],
+        values: &mut [f64],
+    ) {
         self.1 += 1.0;
         values[0] = swarm.shared.time_s;
         values[1] = self.1;
@@ -659,12 +690,12 @@ fn val_law_metrics_are_recorded_in_time_order_across_a_law_switch() {
     cfg.record_interval_s = 10.0;
     let events = vec![Event {
         time_s: 50.0,
-        action: EventAction::SwitchLaw(Box::new(Clocked(&["b_time_s", "b_calls"], 0.0))),
+        action: EventAction::SwitchLaw(Law::new(Clocked(&["b_time_s", "b_calls"], 0.0))),
     }];
     let mut sim = Simulation::new(
         cfg,
         &satellites(&[state([1.0, 0.0, 0.0], [0.0; 3])]),
-        Box::new(Clocked(&["a_time_s", "a_calls"], 0.0)),
+        Law::new(Clocked(&["a_time_s", "a_calls"], 0.0)),
         events,
     )
     .unwrap();

@@ -177,7 +177,7 @@ fn val_malformed_scenarios_get_clear_errors() {
         (
             "event after the end",
             "[law]",
-            "[[events]]\ntime_s = 500.0\naction = \"threat-warning\"\nactive = true\n\n[law]",
+            "[[events]]\ntime_s = 500.0\naction = \"threat-warning\"\nthreat = 0\nactive = true\n\n[law]",
             &["events[0].time_s", "500", "allowed: [0, duration_s = 100]"],
         ),
         (

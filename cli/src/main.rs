@@ -255,6 +255,10 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
             Ok(())
         }
         Err(RunError::Scenario(e)) => Err(usage(e.to_string())),
+        // A setup the engine refuses is the user's input (exit 2); a run that stopped is exit 1.
+        Err(RunError::Simulation(e)) if e.is_setup() => {
+            Err(usage(format!("{}: {e}", scenario.source)))
+        }
         Err(e) => Err(e.into()),
     }
 }

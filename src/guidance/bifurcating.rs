@@ -35,10 +35,9 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::guidance::parameters::merge_parameters;
 use crate::orbit::{gao_to_hill, hill_to_gao};
 use crate::relative::Hcw;
-use crate::swarm::{GuidanceLaw, LawError, SatelliteView, SwarmView};
+use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
 
 /// Regularisation radius ε of the shape coordinate at the cone point ρ = 0 (resp. d = 0) \[m\]
 /// (spec §3.4: 10⁻⁶ km).
@@ -447,16 +446,24 @@ impl Bifurcating {
 }
 
 impl GuidanceLaw for Bifurcating {
+    type State = ();
+    type Parameters = BifurcatingParameters;
+
     fn name(&self) -> &'static str {
         "bifurcating"
     }
 
-    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
+    fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
         self.sensing_range_m = Some(swarm.shared.sensing_range_m);
         self.check_range(&self.parameters)
     }
 
-    fn command_m_s2(&self, satellite: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        _state: &(),
+        _context: &LawContext,
+    ) -> Vector3<f64> {
         let p = &self.parameters;
         let own = satellite.own_state();
         let formation = gao_to_hill(&p.formation_force_gao_n(&hill_to_gao(&own.position_m)));
@@ -470,11 +477,10 @@ impl GuidanceLaw for Bifurcating {
         u
     }
 
-    fn set_parameters(&mut self, parameters: &toml::Table) -> Result<(), LawError> {
-        let merged = merge_parameters(self.name(), &self.parameters, parameters)?;
-        merged.check()?;
-        self.check_range(&merged)?;
-        self.parameters = merged;
+    fn set_parameters(&mut self, parameters: &BifurcatingParameters) -> Result<(), LawError> {
+        parameters.check()?;
+        self.check_range(parameters)?;
+        self.parameters = parameters.clone();
         // A new shape: time-to-shape restarts at the next recording.
         self.shape_commanded_at_s = None;
         self.shape_reached_at_s = None;
@@ -487,7 +493,7 @@ impl GuidanceLaw for Bifurcating {
 
     /// Shape residual, out-of-plane error and whether the 5 % criterion holds (1 or 0; NaN where the
     /// shape has no size), and the time-to-shape bookkeeping.
-    fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]) {
+    fn record_metrics(&mut self, swarm: &SwarmView<'_>, _states: &[()], values: &mut [f64]) {
         let error = self.swarm_shape_error(swarm);
         let now = swarm.shared.time_s;
         let commanded = *self.shape_commanded_at_s.get_or_insert(now);
@@ -518,7 +524,11 @@ impl GuidanceLaw for Bifurcating {
     /// `shape_reached` (5 % criterion) and `shape_max_coordinate_m`, over live satellites, and
     /// `time_to_shape_s` (from the last shape command to the first recording meeting the 5 % criterion;
     /// null if not reached; resolution = the recording interval).
-    fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
+    fn results(
+        &self,
+        swarm: &SwarmView<'_>,
+        _states: &[()],
+    ) -> BTreeMap<String, serde_json::Value> {
         let error = self.swarm_shape_error(swarm);
         let mut out = BTreeMap::new();
         out.insert(

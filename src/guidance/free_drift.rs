@@ -3,8 +3,7 @@
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::guidance::parameters::merge_parameters;
-use crate::swarm::{GuidanceLaw, LawError, SatelliteView};
+use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView};
 
 /// The `none` law has no parameters (any key is refused).
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -16,15 +15,23 @@ pub struct FreeDriftParameters {}
 pub struct FreeDrift;
 
 impl GuidanceLaw for FreeDrift {
+    type State = ();
+    type Parameters = FreeDriftParameters;
+
     fn name(&self) -> &'static str {
         "none"
     }
 
-    fn command_m_s2(&self, _satellite: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(
+        &self,
+        _satellite: &SatelliteView<'_>,
+        _state: &(),
+        _context: &LawContext,
+    ) -> Vector3<f64> {
         Vector3::zeros()
     }
 
-    fn set_parameters(&mut self, parameters: &toml::Table) -> Result<(), LawError> {
-        merge_parameters(self.name(), &FreeDriftParameters {}, parameters).map(|_| ())
+    fn set_parameters(&mut self, _parameters: &FreeDriftParameters) -> Result<(), LawError> {
+        Ok(())
     }
 }

@@ -16,9 +16,8 @@ use std::sync::Arc;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-use crate::guidance::parameters::merge_parameters;
 use crate::relative::Hcw;
-use crate::swarm::{GuidanceLaw, LawError, SatelliteView, SwarmView};
+use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
 
 /// Natural-acceleration feed-forward of the `hold` law.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -95,17 +94,25 @@ fn check(p: &HoldParameters) -> Result<(), LawError> {
 }
 
 impl GuidanceLaw for Hold {
+    type State = ();
+    type Parameters = HoldParameters;
+
     fn name(&self) -> &'static str {
         "hold"
     }
 
-    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
+    fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
         self.start_positions_hill_m =
             Arc::new(swarm.relative_states.iter().map(|s| s.position_m).collect());
         Ok(())
     }
 
-    fn command_m_s2(&self, satellite: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        _state: &(),
+        _context: &LawContext,
+    ) -> Vector3<f64> {
         let p = &self.parameters;
         let own = satellite.own_state();
         let slot = self.slot_hill_m(satellite.id());
@@ -118,10 +125,9 @@ impl GuidanceLaw for Hold {
         u
     }
 
-    fn set_parameters(&mut self, parameters: &toml::Table) -> Result<(), LawError> {
-        let merged = merge_parameters(self.name(), &self.parameters, parameters)?;
-        check(&merged)?;
-        self.parameters = merged;
+    fn set_parameters(&mut self, parameters: &HoldParameters) -> Result<(), LawError> {
+        check(parameters)?;
+        self.parameters = parameters.clone();
         Ok(())
     }
 

@@ -1,6 +1,6 @@
 //! Guidance laws and their registry.
 //!
-//! A law implements [`crate::swarm::GuidanceLaw`]; the registry ([`LawConfig`]) is the closed set of
+//! A law implements [`crate::swarm::GuidanceLaw`] (wrapped as a [`crate::swarm::Law`] for the engine); the registry ([`LawConfig`]) is the closed set of
 //! laws a scenario file can name, each with its own parameter table. Adding a law means a module here
 //! and a variant of [`LawConfig`]; the engine does not change.
 //!
@@ -15,11 +15,10 @@ pub mod bifurcating;
 pub mod free_drift;
 pub mod hold;
 pub mod j2_distance;
-pub mod parameters;
 
 use serde::{Deserialize, Serialize};
 
-use crate::swarm::{GuidanceLaw, LawError};
+use crate::swarm::{Law, LawError, LawParameters};
 
 /// The laws a scenario can name, with their parameters (the `[law]` table of a scenario file; the key
 /// `name` selects the law).
@@ -41,12 +40,32 @@ impl LawConfig {
     pub const NAMES: &'static [&'static str] = &["none", "hold", "bifurcating", "j2-distance"];
 
     /// Builds the law, checking its parameters.
-    pub fn build(&self) -> Result<Box<dyn GuidanceLaw>, LawError> {
+    pub fn build(&self) -> Result<Law, LawError> {
         Ok(match self {
-            LawConfig::None(_) => Box::new(free_drift::FreeDrift),
-            LawConfig::Hold(p) => Box::new(hold::Hold::new(p.clone())?),
-            LawConfig::Bifurcating(p) => Box::new(bifurcating::Bifurcating::new(p.clone())?),
-            LawConfig::J2Distance(p) => Box::new(j2_distance::J2Distance::new(p.clone())?),
+            LawConfig::None(_) => Law::new(free_drift::FreeDrift),
+            LawConfig::Hold(p) => Law::new(hold::Hold::new(p.clone())?),
+            LawConfig::Bifurcating(p) => Law::new(bifurcating::Bifurcating::new(p.clone())?),
+            LawConfig::J2Distance(p) => Law::new(j2_distance::J2Distance::new(p.clone())?),
         })
+    }
+
+    /// The registry name of the law.
+    pub fn name(&self) -> &'static str {
+        match self {
+            LawConfig::None(_) => "none",
+            LawConfig::Hold(_) => "hold",
+            LawConfig::Bifurcating(_) => "bifurcating",
+            LawConfig::J2Distance(_) => "j2-distance",
+        }
+    }
+
+    /// The typed parameter set, for a `set-law-parameters` event of the running law.
+    pub fn into_parameters(self) -> LawParameters {
+        match self {
+            LawConfig::None(p) => LawParameters::new(p),
+            LawConfig::Hold(p) => LawParameters::new(p),
+            LawConfig::Bifurcating(p) => LawParameters::new(p),
+            LawConfig::J2Distance(p) => LawParameters::new(p),
+        }
     }
 }

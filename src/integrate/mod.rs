@@ -8,6 +8,7 @@
 //! | [`Rk4`] | classical fixed-step Runge-Kutta of order 4 |
 //! | [`AdaptiveStepper`]`<`[`Rkf78`]`>` | Fehlberg's embedded 7(8) pair (NASA TR R-287, 1968), 13 stages; propagates the **8th-order** solution (local extrapolation), error control on the 7th |
 //! | [`AdaptiveStepper`]`<`[`Dop853`]`>` | Dormand-Prince 8(5,3) of Hairer, Nørsett & Wanner, 12 stages; propagates the 8th-order solution |
+//! | [`Stepper`] | one of the above, chosen at run time by [`IntegratorMethod`] |
 //!
 //! # Allocation and determinism
 //!
@@ -31,11 +32,13 @@
 mod adaptive;
 mod rk4;
 mod stages;
+mod stepper;
 mod tableau;
 
 pub use adaptive::{AdaptiveStepper, IntegrationStats};
 pub use rk4::Rk4;
 pub use stages::{CHUNK_LEN, PARALLEL_MIN_LEN};
+pub use stepper::Stepper;
 pub use tableau::{ButcherTableau, Dop853, Rkf78};
 
 use std::fmt;

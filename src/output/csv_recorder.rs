@@ -1,6 +1,7 @@
-//! A [`Recorder`] that streams snapshots to `metrics.csv` (one row per recording time, with the law's own
-//! metrics as extra columns after [`METRICS_HEADER`]) and, optionally,
-//! `trajectory.csv` (one row per live satellite per recording time). Each snapshot is flushed as soon as it
+//! A [`Recorder`] that streams snapshots to `metrics.csv` (one row per recording time: [`METRICS_HEADER`],
+//! then the threat and obstacle monitor columns where the scenario has threats or obstacles, then the
+//! law's own metrics) and, optionally, `trajectory.csv` (one row per live satellite per recording time:
+//! [`TRAJECTORY_HEADER`], then the laws' per-satellite outputs). Each snapshot is flushed as soon as it
 //! is written, so the files are complete, valid CSV up to the last recorded time even if a run stops.
 
 use std::fs::File;
@@ -51,34 +52,59 @@ pub const TRAJECTORY_HEADER: &[&str] = &[
     "delta_v_mps",
 ];
 
+/// Columns of `metrics.csv` with threats: the swarm's smallest distance to any threat so far (continuous
+/// closest approach) and the entries into danger spheres so far.
+pub const THREAT_COLUMNS: &[&str] = &["min_threat_distance_m", "threat_incursions"];
+
+/// Columns of `metrics.csv` with obstacles: the smallest clearance to an obstacle's surface so far
+/// (negative: inside) and the entries into obstacles so far.
+pub const OBSTACLE_COLUMNS: &[&str] = &["min_obstacle_clearance_m", "obstacle_incursions"];
+
+/// The variable columns of a run's CSV files.
+#[derive(Clone, Debug, Default)]
+pub struct CsvColumns {
+    /// Whether the scenario has threats ([`THREAT_COLUMNS`]).
+    pub threats: bool,
+    /// Whether the scenario has obstacles ([`OBSTACLE_COLUMNS`]).
+    pub obstacles: bool,
+    /// Law metric columns of `metrics.csv` (every law the run can switch to).
+    pub law_metrics: Vec<&'static str>,
+    /// Per-satellite law output columns of `trajectory.csv`.
+    pub law_outputs: Vec<&'static str>,
+}
+
 /// Streams snapshots to CSV files in a directory.
 pub struct CsvRecorder {
     metrics: BufWriter<File>,
-    /// Law metric columns, in header order.
-    law_columns: Vec<&'static str>,
+    columns: CsvColumns,
     trajectory: Option<BufWriter<File>>,
     line: String,
 }
 
 impl CsvRecorder {
-    /// Creates `dir/metrics.csv` (with the law metric columns `law_columns` after the standard ones) and,
-    /// if asked, `dir/trajectory.csv`, and writes their headers.
+    /// Creates `dir/metrics.csv` and, if asked, `dir/trajectory.csv`, with the variable `columns`, and
+    /// writes their headers.
     pub fn create(
         dir: &Path,
         write_trajectory: bool,
-        law_columns: &[&'static str],
+        columns: CsvColumns,
     ) -> std::io::Result<Self> {
         let mut metrics = BufWriter::new(File::create(dir.join("metrics.csv"))?);
-        let mut header = METRICS_HEADER.join(",");
-        for name in law_columns {
-            header.push(',');
-            header.push_str(name);
+        let mut header: Vec<&str> = METRICS_HEADER.to_vec();
+        if columns.threats {
+            header.extend_from_slice(THREAT_COLUMNS);
         }
-        writeln!(metrics, "{header}")?;
+        if columns.obstacles {
+            header.extend_from_slice(OBSTACLE_COLUMNS);
+        }
+        header.extend_from_slice(&columns.law_metrics);
+        writeln!(metrics, "{}", header.join(","))?;
         metrics.flush()?;
         let trajectory = if write_trajectory {
             let mut t = BufWriter::new(File::create(dir.join("trajectory.csv"))?);
-            writeln!(t, "{}", TRAJECTORY_HEADER.join(","))?;
+            let mut header: Vec<&str> = TRAJECTORY_HEADER.to_vec();
+            header.extend_from_slice(&columns.law_outputs);
+            writeln!(t, "{}", header.join(","))?;
             t.flush()?;
             Some(t)
         } else {
@@ -86,10 +112,18 @@ impl CsvRecorder {
         };
         Ok(Self {
             metrics,
-            law_columns: law_columns.to_vec(),
+            columns,
             trajectory,
             line: String::with_capacity(512),
         })
+    }
+}
+
+/// Appends an optional value: the number, or an empty cell.
+fn push_optional(line: &mut String, value: Option<f64>) {
+    match value {
+        Some(v) => push(line, v),
+        None => line.push(','),
     }
 }
 
@@ -140,8 +174,17 @@ impl Recorder for CsvRecorder {
                 live.iter().map(|&i| s.delta_v_axes_mps[i][k]).sum::<f64>() / count,
             );
         }
+        let env = &s.environment;
+        if self.columns.threats {
+            push_optional(line, env.min_threat_distance_m);
+            let _ = write!(line, ",{}", env.threat_incursions);
+        }
+        if self.columns.obstacles {
+            push_optional(line, env.min_obstacle_clearance_m);
+            let _ = write!(line, ",{}", env.obstacle_incursions);
+        }
         // Law metrics: a value where the running law has the column, empty where it does not.
-        for column in &self.law_columns {
+        for column in &self.columns.law_metrics {
             match s.law_metric_names.iter().position(|n| n == column) {
                 Some(k) => push(line, s.law_metrics[k]),
                 None => line.push(','),
@@ -166,6 +209,13 @@ impl Recorder for CsvRecorder {
                     push(line, *v);
                 }
                 push(line, s.delta_v_mps[i]);
+                let k = s.law_output_names.len();
+                for column in &self.columns.law_outputs {
+                    match s.law_output_names.iter().position(|n| n == column) {
+                        Some(j) => push(line, s.law_outputs[i * k + j]),
+                        None => line.push(','),
+                    }
+                }
                 writeln!(t, "{line}")?;
             }
             t.flush()?;

@@ -4,5 +4,5 @@
 pub mod csv_recorder;
 pub mod summary;
 
-pub use csv_recorder::CsvRecorder;
+pub use csv_recorder::{CsvColumns, CsvRecorder};
 pub use summary::{DeltaVSummary, RunStatus, RunSummary};

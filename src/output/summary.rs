@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use crate::environment::{Approach, ApproachMonitor, Clearance, PairMinimum};
 use crate::metrics::FiveElements;
 
 /// How the run ended.
@@ -70,8 +71,63 @@ pub struct RunSummary {
     /// Final swarm state.
     #[serde(rename = "final")]
     pub final_state: FinalState,
+    /// Threat approach and obstacle clearance over the whole run (present when the scenario has threats
+    /// or obstacles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub environment: Option<EnvironmentSummary>,
     /// The law-specific results, by key.
     pub law: BTreeMap<String, serde_json::Value>,
     /// Scenario tags and run metadata (crate version, platform).
     pub metadata: BTreeMap<String, String>,
+}
+
+/// The continuous threat and obstacle monitors over a run (truth states, Hill frame; satellites as points).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EnvironmentSummary {
+    /// Threat names, in scenario order.
+    pub threats: Vec<String>,
+    /// Obstacle names, in scenario order.
+    pub obstacles: Vec<String>,
+    /// The swarm's closest approach to any threat: satellite, threat, time \[s\] and distance \[m\].
+    pub closest_threat_approach: Option<PairMinimum<Approach>>,
+    /// Per satellite: its smallest distance to any threat \[m\] (null: no threat, or removed before any).
+    pub min_threat_distance_per_satellite_m: Vec<Option<f64>>,
+    /// Entries of satellites into threat danger spheres.
+    pub threat_incursions: u64,
+    /// The swarm's smallest clearance to an obstacle's surface: satellite, obstacle, time \[s\] and
+    /// clearance \[m\] (negative: inside).
+    pub min_obstacle_clearance: Option<PairMinimum<Clearance>>,
+    /// Per satellite: its smallest clearance to any obstacle's surface \[m\].
+    pub min_obstacle_clearance_per_satellite_m: Vec<Option<f64>>,
+    /// Entries of satellites into obstacles.
+    pub obstacle_incursions: u64,
+}
+
+impl EnvironmentSummary {
+    /// The summary of a run's monitor, with the objects' names.
+    pub fn new(monitor: &ApproachMonitor, threats: Vec<String>, obstacles: Vec<String>) -> Self {
+        let n = monitor.satellite_count();
+        Self {
+            threats,
+            obstacles,
+            closest_threat_approach: monitor.swarm_threat_minimum(),
+            min_threat_distance_per_satellite_m: (0..n)
+                .map(|i| {
+                    monitor
+                        .satellite_threat_minimum(i)
+                        .map(|m| m.minimum.distance_m)
+                })
+                .collect(),
+            threat_incursions: monitor.total_threat_incursions(),
+            min_obstacle_clearance: monitor.swarm_obstacle_minimum(),
+            min_obstacle_clearance_per_satellite_m: (0..n)
+                .map(|i| {
+                    monitor
+                        .satellite_obstacle_minimum(i)
+                        .map(|m| m.minimum.clearance_m)
+                })
+                .collect(),
+            obstacle_incursions: monitor.total_obstacle_incursions(),
+        }
+    }
 }

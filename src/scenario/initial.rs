@@ -1,32 +1,26 @@
-//! Initial relative states of the satellites: random draws in a ball, box or shell (seeded, one ChaCha8
-//! stream per satellite so that satellite i's draw does not depend on the others or on threads), or
-//! explicit lists.
+//! Initial relative states of the satellites: random draws in a ball, box or shell (seeded; satellite i
+//! draws from its own stream `RandomStream::new(seed, Purpose::InitialStates, i, 0)`, so its draw does not
+//! depend on the others or on threads), or explicit lists.
 
 use nalgebra::Vector3;
-use rand::rngs::ChaCha8Rng;
-use rand::{RngExt, SeedableRng};
 
 use crate::orbit::RelativeStateHill;
+use crate::random::{Purpose, RandomStream};
 use crate::relative::j2_averaged::{AveragedJ2, OrbitParameters};
 use crate::scenario::schema::InitialVelocity;
 
-/// Stream family of the initial-state draws (distinct from the navigation-noise family).
-const INITIAL_STATE_DOMAIN: u64 = 0x696e_6974_5f73_7461; // "init_sta"
-
-/// The random generator of satellite `i`'s initial state for a scenario seed.
-pub fn satellite_rng(seed: u64, i: usize) -> ChaCha8Rng {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ INITIAL_STATE_DOMAIN);
-    rng.set_stream(i as u64);
-    rng
+/// The random stream of satellite `i`'s initial state for a scenario seed.
+fn satellite_stream(seed: u64, i: usize) -> RandomStream {
+    RandomStream::new(seed, Purpose::InitialStates, i as u64, 0)
 }
 
 /// A point uniform in the unit ball (rejection sampling from the cube: exact uniformity).
-fn unit_ball(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+fn unit_ball(rng: &mut RandomStream) -> Vector3<f64> {
     loop {
         let p = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
+            rng.uniform_range(-1.0, 1.0),
+            rng.uniform_range(-1.0, 1.0),
+            rng.uniform_range(-1.0, 1.0),
         );
         if p.norm_squared() <= 1.0 {
             return p;
@@ -35,7 +29,7 @@ fn unit_ball(rng: &mut ChaCha8Rng) -> Vector3<f64> {
 }
 
 /// A direction uniform on the unit sphere.
-fn unit_direction(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+fn unit_direction(rng: &mut RandomStream) -> Vector3<f64> {
     loop {
         let p = unit_ball(rng);
         let norm = p.norm();
@@ -53,7 +47,7 @@ pub fn sphere(
     center_hill_m: Vector3<f64>,
 ) -> Vec<Vector3<f64>> {
     (0..count)
-        .map(|i| center_hill_m + radius_m * unit_ball(&mut satellite_rng(seed, i)))
+        .map(|i| center_hill_m + radius_m * unit_ball(&mut satellite_stream(seed, i)))
         .collect()
 }
 
@@ -66,11 +60,11 @@ pub fn cuboid(
 ) -> Vec<Vector3<f64>> {
     (0..count)
         .map(|i| {
-            let mut rng = satellite_rng(seed, i);
+            let mut rng = satellite_stream(seed, i);
             let u = Vector3::new(
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-0.5..0.5),
+                rng.uniform_range(-0.5, 0.5),
+                rng.uniform_range(-0.5, 0.5),
+                rng.uniform_range(-0.5, 0.5),
             );
             center_hill_m + size_hill_m.component_mul(&u)
         })
@@ -89,9 +83,9 @@ pub fn shell(
     let (a, b) = (inner_radius_m.powi(3), outer_radius_m.powi(3));
     (0..count)
         .map(|i| {
-            let mut rng = satellite_rng(seed, i);
+            let mut rng = satellite_stream(seed, i);
             let direction = unit_direction(&mut rng);
-            let u: f64 = rng.random_range(0.0..1.0);
+            let u = rng.uniform();
             center_hill_m + (a + u * (b - a)).cbrt() * direction
         })
         .collect()
@@ -135,8 +129,8 @@ pub fn averaged_j2(
             if origin == Some(i) {
                 return RelativeStateHill::default();
             }
-            let mut rng = satellite_rng(seed, i);
-            let mut draw = |bound: f64| bound * rng.random_range(-1.0..1.0);
+            let mut rng = satellite_stream(seed, i);
+            let mut draw = |bound: f64| bound * rng.uniform_range(-1.0, 1.0);
             let c1_m = draw(c1_max_m);
             let c2_m = draw(amplitude_max_m);
             let c3_m = draw(amplitude_max_m);

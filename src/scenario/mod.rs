@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 pub use schema::ScenarioFile;
-pub use validate::Prepared;
+pub use validate::{merge_law_parameters, Prepared};
 
 /// A scenario that cannot be loaded or run.
 #[derive(Debug, Error)]

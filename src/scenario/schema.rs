@@ -42,6 +42,12 @@ pub struct ScenarioFile {
     /// Sensors and links.
     #[serde(default)]
     pub sensing: SensingSection,
+    /// Kinematic threats (`[[threats]]`), straight lines in the Hill frame.
+    #[serde(default)]
+    pub threats: Vec<ThreatSection>,
+    /// Static spherical obstacles (`[[obstacles]]`) in the Hill frame.
+    #[serde(default)]
+    pub obstacles: Vec<ObstacleSection>,
     /// The event timeline.
     #[serde(default)]
     pub events: Vec<EventSection>,
@@ -63,6 +69,8 @@ pub enum ModelName {
     Hcw,
     /// Schweighart–Sedwick J2-linearised relative dynamics.
     J2Linear,
+    /// Kinematic: Hill positions follow the law's commanded velocity (velocity-field laws only).
+    Kinematic,
 }
 
 /// `[dynamics]`.
@@ -87,6 +95,10 @@ pub struct DynamicsSection {
     /// A satellite farther than this from the LVLH origin stops the run \[m\] (default 1e6).
     #[serde(default = "default_max_distance")]
     pub max_distance_m: f64,
+    /// Process (acceleration) noise, standard deviation per satellite and Hill axis \[m/s^2\], held over
+    /// a control period or integration step (default 0; dynamic models only).
+    #[serde(default)]
+    pub process_noise_mps2: f64,
 }
 
 fn default_integrator() -> IntegratorMethod {
@@ -114,6 +126,7 @@ impl Default for DynamicsSection {
             rtol: default_rtol(),
             atol: default_atol(),
             max_distance_m: default_max_distance(),
+            process_noise_mps2: 0.0,
         }
     }
 }
@@ -350,6 +363,48 @@ impl Default for SensingSection {
     }
 }
 
+/// `[[threats]]`: a kinematic threat on a straight line in the Hill frame, given either by its state at a
+/// time (`position_hill_m`, `velocity_hill_mps`, `at_time_s`) or by an aim (`aim_point_hill_m`,
+/// `direction_hill`, `speed_mps`, `arrival_time_s`: it passes the aim point at that time).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ThreatSection {
+    /// Name (outputs; default `threat-K`).
+    pub name: Option<String>,
+    /// Radius of the danger sphere \[m\].
+    pub danger_radius_m: f64,
+    /// Range at which satellites detect it \[m\] (default: their sensing range).
+    pub detection_range_m: Option<f64>,
+    /// Position at `at_time_s`, Hill frame \[m\].
+    pub position_hill_m: Option<[f64; 3]>,
+    /// Constant velocity, Hill frame \[m/s\].
+    pub velocity_hill_mps: Option<[f64; 3]>,
+    /// Time of `position_hill_m` \[s\] (default 0).
+    pub at_time_s: Option<f64>,
+    /// Point the threat passes at `arrival_time_s`, Hill frame \[m\].
+    pub aim_point_hill_m: Option<[f64; 3]>,
+    /// Direction of travel, Hill frame (any length > 0; normalised).
+    pub direction_hill: Option<[f64; 3]>,
+    /// Speed \[m/s\].
+    pub speed_mps: Option<f64>,
+    /// Time it passes the aim point \[s\].
+    pub arrival_time_s: Option<f64>,
+}
+
+/// `[[obstacles]]`: a sphere static in the Hill frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObstacleSection {
+    /// Name (outputs; default `obstacle-K`).
+    pub name: Option<String>,
+    /// Centre, Hill frame \[m\].
+    pub center_hill_m: [f64; 3],
+    /// Radius \[m\].
+    pub radius_m: f64,
+    /// Range at which satellites detect it, measured to its surface \[m\] (default: their sensing range).
+    pub detection_range_m: Option<f64>,
+}
+
 /// Satellites an event concerns: `"all"` or a list of indices.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -398,9 +453,11 @@ pub enum ActionSection {
         /// The new law.
         law: LawConfig,
     },
-    /// Raise or clear the threat warning.
+    /// A ground message: raise or clear the warning about one threat.
     ThreatWarning {
-        /// New state.
+        /// Index of the threat in `[[threats]]`.
+        threat: usize,
+        /// Whether the warning is in force from now on.
         active: bool,
     },
     /// Cut links.

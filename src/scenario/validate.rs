@@ -4,7 +4,9 @@
 use std::path::Path;
 
 use nalgebra::Vector3;
+use serde::Deserialize;
 
+use crate::environment::{Obstacle, Threat};
 use crate::guidance::LawConfig;
 use crate::integrate::Tolerances;
 use crate::orbit::{
@@ -13,13 +15,13 @@ use crate::orbit::{
 use crate::relative::{Hcw, SchweighartSedwick};
 use crate::scenario::initial;
 use crate::scenario::schema::{
-    ActionSection, AxisName, ControlMode, InitialSection, ListFrame, ModelName, OriginName,
-    SelectionSection,
+    ActionSection, AxisName, ControlMode, InitialSection, ListFrame, ModelName, ObstacleSection,
+    OriginName, SelectionSection, ThreatSection,
 };
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
-    Actuator, ControlTiming, DynamicsModel, Event, EventAction, GuidanceLaw, Origin, SatelliteInit,
-    Selection, Sensing, SimulationConfig, ThrustAxis,
+    check_law_fits, Actuator, ControlTiming, DynamicsModel, Event, EventAction, Law, Origin,
+    SatelliteInit, Selection, Sensing, SimError, SimulationConfig, ThrustAxis,
 };
 
 /// Largest eccentricity accepted for the circular-orbit linear models (HCW, Schweighart–Sedwick).
@@ -34,7 +36,7 @@ pub struct Prepared {
     /// Satellites at t = 0.
     pub satellites: Vec<SatelliteInit>,
     /// The law at t = 0.
-    pub law: Box<dyn GuidanceLaw>,
+    pub law: Law,
     /// The event timeline.
     pub events: Vec<Event>,
     /// Whether to write the trajectory file.
@@ -150,6 +152,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     let dynamics = match dy.model {
         ModelName::J2 => DynamicsModel::Inertial(GravityModel::J2),
         ModelName::TwoBody => DynamicsModel::Inertial(GravityModel::TwoBody),
+        ModelName::Kinematic => DynamicsModel::Kinematic,
         ModelName::Hcw | ModelName::J2Linear => {
             if elements.eccentricity > LINEAR_MODEL_MAX_ECCENTRICITY {
                 return Err(c.invalid(
@@ -285,9 +288,16 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             .non_negative("sensing.velocity_noise_mps", f.sensing.velocity_noise_mps)?,
     };
 
-    // Law and events.
-    let law = build_law(&c, "law", &f.law)?;
-    let events = events(&c, scenario, count, duration_s)?;
+    let process_noise_m_s2 =
+        c.non_negative("dynamics.process_noise_mps2", dy.process_noise_mps2)?;
+    if process_noise_m_s2 > 0.0 && dynamics == DynamicsModel::Kinematic {
+        return Err(c.invalid(
+            "dynamics.process_noise_mps2",
+            "the kinematic model has no forces to disturb (allowed: 0 with model = \"kinematic\")",
+        ));
+    }
+    let threats = threats(&c, &f.threats)?;
+    let obstacles = obstacles(&c, &f.obstacles)?;
 
     let config = SimulationConfig {
         earth,
@@ -305,9 +315,20 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         duration_s,
         record_interval_s,
         sensing,
+        process_noise_m_s2,
+        threats,
+        obstacles,
         max_distance_m,
         seed: f.seed,
     };
+
+    // Law and events, each law and parameter set checked against the timing now, not when it applies.
+    let min_mass_kg = satellites
+        .iter()
+        .map(|s| s.mass_kg)
+        .fold(f64::INFINITY, f64::min);
+    let law = build_law(&c, "law", &f.law, &config, min_mass_kg)?;
+    let events = events(&c, scenario, count, &config, min_mass_kg)?;
     Ok(Prepared {
         name: f.name.clone(),
         config,
@@ -319,12 +340,140 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     })
 }
 
+/// Builds a law and checks that it fits the dynamics and timing; an error names `key` (the law's table,
+/// or the event that sets it) and, for a timing that cannot resolve the law, the timing key too.
 fn build_law(
     c: &Checker<'_>,
     key: &str,
     law: &LawConfig,
-) -> Result<Box<dyn GuidanceLaw>, ScenarioError> {
-    law.build().map_err(|e| c.invalid(key, e.to_string()))
+    config: &SimulationConfig,
+    min_mass_kg: f64,
+) -> Result<Law, ScenarioError> {
+    let built = law.build().map_err(|e| c.invalid(key, e.to_string()))?;
+    check_law_fits(&built, config, min_mass_kg).map_err(|e| {
+        let hint = match e {
+            SimError::ControlPeriodTooLong { .. } => "; shorten control.period_s or soften the law",
+            SimError::StepTooLong { .. } => "; shorten dynamics.step_s or soften the law",
+            SimError::CommandKindMismatch { .. } => "; choose another dynamics.model or law",
+            _ => "",
+        };
+        c.invalid(key, format!("{e}{hint}"))
+    })?;
+    Ok(built)
+}
+
+/// `current` with the keys of a `set-law-parameters` table replaced, re-validated by deserialisation
+/// (unknown keys and wrong types are refused with the deserialiser's message; the law's name cannot
+/// change this way: that is `switch-law`).
+pub fn merge_law_parameters(
+    current: &LawConfig,
+    update: &toml::Table,
+) -> Result<LawConfig, String> {
+    if update.contains_key("name") {
+        return Err("`name` cannot be changed by set-law-parameters (use switch-law)".into());
+    }
+    let mut table = toml::Table::try_from(current).map_err(|e| e.to_string())?;
+    for (key, value) in update {
+        table.insert(key.clone(), value.clone());
+    }
+    LawConfig::deserialize(table).map_err(|e| e.to_string())
+}
+
+/// The threats of the scenario.
+fn threats(c: &Checker<'_>, sections: &[ThreatSection]) -> Result<Vec<Threat>, ScenarioError> {
+    sections
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let key = |name: &str| format!("threats[{k}].{name}");
+            let name = s.name.clone().unwrap_or_else(|| format!("threat-{k}"));
+            let danger = c.non_negative(&key("danger_radius_m"), s.danger_radius_m)?;
+            let by_state = s.position_hill_m.is_some() || s.velocity_hill_mps.is_some();
+            let by_aim = s.aim_point_hill_m.is_some()
+                || s.direction_hill.is_some()
+                || s.speed_mps.is_some()
+                || s.arrival_time_s.is_some();
+            let threat = match (by_state, by_aim) {
+                (true, false) => {
+                    let (Some(p), Some(v)) = (s.position_hill_m, s.velocity_hill_mps) else {
+                        return Err(c.invalid(
+                            &key("position_hill_m"),
+                            "position_hill_m and velocity_hill_mps go together (one is missing)",
+                        ));
+                    };
+                    c.finite(&key("position_hill_m"), &p)?;
+                    c.finite(&key("velocity_hill_mps"), &v)?;
+                    let at = s.at_time_s.unwrap_or(0.0);
+                    c.finite(&key("at_time_s"), &[at])?;
+                    Threat::from_state(name, at, Vector3::from(p), Vector3::from(v), danger)
+                }
+                (false, true) => {
+                    if s.at_time_s.is_some() {
+                        return Err(c.invalid(&key("at_time_s"), "goes with position_hill_m, not with an aim"));
+                    }
+                    let (Some(aim), Some(direction), Some(speed), Some(arrival)) =
+                        (s.aim_point_hill_m, s.direction_hill, s.speed_mps, s.arrival_time_s)
+                    else {
+                        return Err(c.invalid(
+                            &key("aim_point_hill_m"),
+                            "an aimed threat needs aim_point_hill_m, direction_hill, speed_mps and arrival_time_s",
+                        ));
+                    };
+                    c.finite(&key("aim_point_hill_m"), &aim)?;
+                    c.finite(&key("direction_hill"), &direction)?;
+                    c.positive(&key("speed_mps"), speed)?;
+                    c.finite(&key("arrival_time_s"), &[arrival])?;
+                    Threat::from_aim(
+                        name,
+                        Vector3::from(aim),
+                        Vector3::from(direction),
+                        speed,
+                        arrival,
+                        danger,
+                    )
+                }
+                _ => {
+                    return Err(c.invalid(
+                        &format!("threats[{k}]"),
+                        "give either position_hill_m + velocity_hill_mps (+ at_time_s) or \
+                         aim_point_hill_m + direction_hill + speed_mps + arrival_time_s",
+                    ))
+                }
+            }
+            .map_err(|e| c.invalid(&format!("threats[{k}]"), e.to_string()))?;
+            match s.detection_range_m {
+                Some(r) => threat
+                    .with_detection_range_m(c.positive(&key("detection_range_m"), r)?)
+                    .map_err(|e| c.invalid(&key("detection_range_m"), e.to_string())),
+                None => Ok(threat),
+            }
+        })
+        .collect()
+}
+
+/// The obstacles of the scenario.
+fn obstacles(
+    c: &Checker<'_>,
+    sections: &[ObstacleSection],
+) -> Result<Vec<Obstacle>, ScenarioError> {
+    sections
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let key = |name: &str| format!("obstacles[{k}].{name}");
+            let name = s.name.clone().unwrap_or_else(|| format!("obstacle-{k}"));
+            c.finite(&key("center_hill_m"), &s.center_hill_m)?;
+            let radius = c.positive(&key("radius_m"), s.radius_m)?;
+            let obstacle = Obstacle::new(name, Vector3::from(s.center_hill_m), radius)
+                .map_err(|e| c.invalid(&format!("obstacles[{k}]"), e.to_string()))?;
+            match s.detection_range_m {
+                Some(r) => obstacle
+                    .with_detection_range_m(c.positive(&key("detection_range_m"), r)?)
+                    .map_err(|e| c.invalid(&key("detection_range_m"), e.to_string())),
+                None => Ok(obstacle),
+            }
+        })
+        .collect()
 }
 
 /// The reference orbit's ECI state at t = 0 and its osculating elements.
@@ -621,18 +770,21 @@ fn selection(
     }
 }
 
-/// Translates the timeline, checking times, indices and — by replaying the parameter changes on a probe
-/// copy of the law — every parameter update, so that a bad update fails before the run, not during it.
+/// Translates the timeline, checking times, indices and — by replaying the law changes in time order —
+/// every parameter update and law switch: each resulting law is built and checked against the dynamics
+/// and timing, so that a bad or too stiff update fails before the run, not when its event fires.
 fn events(
     c: &Checker<'_>,
     scenario: &Scenario,
     count: usize,
-    duration_s: f64,
+    config: &SimulationConfig,
+    min_mass_kg: f64,
 ) -> Result<Vec<Event>, ScenarioError> {
     let f = &scenario.file;
+    let duration_s = config.duration_s;
     let mut order: Vec<usize> = (0..f.events.len()).collect();
     order.sort_by(|&a, &b| f.events[a].time_s.total_cmp(&f.events[b].time_s));
-    let mut probe = build_law(c, "law", &f.law)?;
+    let mut current = f.law.clone();
     let mut out = Vec::with_capacity(f.events.len());
     for k in order {
         let e = &f.events[k];
@@ -648,18 +800,35 @@ fn events(
         }
         let action = match &e.action {
             ActionSection::SetLawParameters { parameters } => {
-                probe
-                    .set_parameters(parameters)
-                    .map_err(|err| c.invalid(&key("parameters"), err.to_string()))?;
-                EventAction::SetLawParameters(parameters.clone())
+                let merged = merge_law_parameters(&current, parameters).map_err(|err| {
+                    c.invalid(
+                        &key("parameters"),
+                        format!("law `{}`: {err}", current.name()),
+                    )
+                })?;
+                build_law(c, &key("parameters"), &merged, config, min_mass_kg)?;
+                current = merged.clone();
+                EventAction::SetLawParameters(merged.into_parameters())
             }
             ActionSection::SwitchLaw { law } => {
-                probe = build_law(c, &key("law"), law)?;
-                EventAction::SwitchLaw(build_law(c, &key("law"), law)?)
+                let built = build_law(c, &key("law"), law, config, min_mass_kg)?;
+                current = law.clone();
+                EventAction::SwitchLaw(built)
             }
-            ActionSection::ThreatWarning { active } => {
-                EventAction::ThreatWarning { active: *active }
-            }
+            ActionSection::ThreatWarning { threat, active } => EventAction::ThreatWarning {
+                threat: if *threat < config.threats.len() {
+                    *threat
+                } else {
+                    return Err(c.invalid(
+                        &key("threat"),
+                        format!(
+                            "threat {threat} does not exist (allowed: 0..{}, the [[threats]] of the scenario)",
+                            config.threats.len()
+                        ),
+                    ));
+                },
+                active: *active,
+            },
             ActionSection::CutLinks { satellites } => {
                 EventAction::CutLinks(selection(c, &key("satellites"), satellites, count)?)
             }

@@ -5,11 +5,14 @@
 //!   acceleration rotated from LVLH (the default truth);
 //! * [`DynamicsModel::Hcw`] and [`DynamicsModel::J2Linear`]: each satellite's Hill LVLH state relative to
 //!   the virtual reference orbit, under the Hill–Clohessy–Wiltshire or the Schweighart–Sedwick
-//!   J2-linearised equations (some papers simulate on these).
+//!   J2-linearised equations (some papers simulate on these);
+//! * [`DynamicsModel::Kinematic`]: each satellite's Hill position follows the law's commanded velocity
+//!   exactly (a velocity-field law's kinematic layer, as in the threat paper's §3 building blocks); the
+//!   actuator model does not apply and the delta-v ledger stays zero.
 //!
 //! The reference orbit is always propagated in ECI, with the same gravity as the satellites for the
 //! inertial model, two-body for HCW (its circular-orbit assumption) and point mass + J2 for the
-//! J2-linearised model, and no control.
+//! J2-linearised and kinematic models, and no control.
 
 use nalgebra::Vector3;
 
@@ -25,6 +28,8 @@ pub enum DynamicsModel {
     Hcw(Hcw),
     /// Hill states relative to the reference, Schweighart–Sedwick J2-linearised equations.
     J2Linear(SchweighartSedwick),
+    /// Hill positions relative to the reference moved by the commanded velocity (no forces).
+    Kinematic,
 }
 
 impl DynamicsModel {
@@ -33,18 +38,31 @@ impl DynamicsModel {
         matches!(self, DynamicsModel::Inertial(_))
     }
 
+    /// The model's name in scenario files.
+    pub fn name(&self) -> &'static str {
+        match self {
+            DynamicsModel::Inertial(GravityModel::J2) => "j2",
+            DynamicsModel::Inertial(GravityModel::TwoBody) => "two-body",
+            DynamicsModel::Hcw(_) => "hcw",
+            DynamicsModel::J2Linear(_) => "j2-linear",
+            DynamicsModel::Kinematic => "kinematic",
+        }
+    }
+
     /// Gravity used to propagate the reference orbit.
     pub fn reference_gravity(&self) -> GravityModel {
         match self {
             DynamicsModel::Inertial(g) => *g,
             DynamicsModel::Hcw(_) => GravityModel::TwoBody,
-            DynamicsModel::J2Linear(_) => GravityModel::J2,
+            DynamicsModel::J2Linear(_) | DynamicsModel::Kinematic => GravityModel::J2,
         }
     }
 
     /// Time derivative of one satellite's state (position \[m\], velocity \[m/s\]) in the model's frame, under
     /// an applied control acceleration expressed in that same frame (ECI for the inertial model, Hill for
-    /// the linear ones) \[m/s^2\]. Returns (velocity \[m/s\], acceleration \[m/s^2\]).
+    /// the linear ones) \[m/s^2\]. Returns (velocity \[m/s\], acceleration \[m/s^2\]). For the kinematic
+    /// model `control` is the commanded Hill velocity \[m/s\]: the position moves with it and the
+    /// velocity state does not change (the engine sets it to the command).
     #[inline]
     pub fn satellite_derivative(
         &self,
@@ -66,6 +84,7 @@ impl DynamicsModel {
                 *velocity_mps,
                 m.natural_acceleration_m_s2(position_m, velocity_mps) + control_m_s2,
             ),
+            DynamicsModel::Kinematic => (*control_m_s2, Vector3::zeros()),
         }
     }
 }

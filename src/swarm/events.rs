@@ -1,7 +1,7 @@
 //! The event timeline: commands that take effect at a given simulation time (new law parameters, a law
-//! switch, threat warnings, link outages, satellite losses, thruster failures).
+//! switch, ground messages such as threat warnings, link outages, satellite losses, thruster failures).
 
-use crate::swarm::law::GuidanceLaw;
+use crate::swarm::law::{Law, LawParameters};
 
 /// Which satellites an event concerns.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -37,13 +37,15 @@ pub enum ThrustAxis {
 
 /// What an event does.
 pub enum EventAction {
-    /// Replace some of the running law's parameters.
-    SetLawParameters(toml::Table),
+    /// Replace the running law's parameters (a typed set, merged and validated by the scenario layer).
+    SetLawParameters(LawParameters),
     /// Switch to another law (already built and validated by the scenario layer).
-    SwitchLaw(Box<dyn GuidanceLaw>),
-    /// Raise or clear the ground threat warning.
+    SwitchLaw(Law),
+    /// A ground message: raise or clear the warning about one threat.
     ThreatWarning {
-        /// Whether the warning is active from now on.
+        /// The threat's index in the scenario.
+        threat: usize,
+        /// Whether the warning is in force from now on.
         active: bool,
     },
     /// Cut the links of the selected satellites.
@@ -64,9 +66,11 @@ pub enum EventAction {
 impl std::fmt::Debug for EventAction {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::SetLawParameters(t) => write!(f, "SetLawParameters({t})"),
+            Self::SetLawParameters(_) => write!(f, "SetLawParameters"),
             Self::SwitchLaw(law) => write!(f, "SwitchLaw({})", law.name()),
-            Self::ThreatWarning { active } => write!(f, "ThreatWarning {{ active: {active} }}"),
+            Self::ThreatWarning { threat, active } => {
+                write!(f, "ThreatWarning {{ threat: {threat}, active: {active} }}")
+            }
             Self::CutLinks(s) => write!(f, "CutLinks({s:?})"),
             Self::RestoreLinks(s) => write!(f, "RestoreLinks({s:?})"),
             Self::RemoveSatellite(i) => write!(f, "RemoveSatellite({i})"),

@@ -5,23 +5,24 @@
 //! commanded accelerations, the actuators limit them, the integrator propagates the truth. A law never
 //! touches the integrator; the integrator never knows which law runs.
 
-pub mod actuator;
-pub mod dynamics;
-pub mod events;
-pub mod law;
+mod actuator;
+mod dynamics;
+mod events;
+mod law;
+mod recorder;
+mod simulation;
+mod state;
 
-pub mod recorder;
-pub mod simulation;
-pub mod state;
-
-pub use crate::grid::NeighbourGrid;
 pub use actuator::{Actuator, LimitKind};
 pub use dynamics::DynamicsModel;
 pub use events::{Event, EventAction, Selection, ThrustAxis};
-pub use law::{GuidanceLaw, LawError, Neighbour, SatelliteView, SharedInfo, SwarmView};
-pub use recorder::{NullRecorder, Recorder, Snapshot};
+pub use law::{
+    Broadcast, CommandKind, EnvironmentView, GuidanceLaw, Law, LawContext, LawError, LawParameters,
+    Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo, SwarmView,
+};
+pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{
-    ControlTiming, Origin, RunTotals, SatelliteInit, Sensing, SimError, Simulation,
-    SimulationConfig,
+    check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
+    Simulation, SimulationConfig,
 };
 pub use state::SwarmState;

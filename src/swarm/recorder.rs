@@ -29,6 +29,31 @@ pub struct Snapshot<'a> {
     pub law_metric_names: &'static [&'static str],
     /// Their values now, in the same order.
     pub law_metrics: &'a [f64],
+    /// The running law's per-satellite output names (see [`crate::swarm::GuidanceLaw::output_names`]).
+    pub law_output_names: &'static [&'static str],
+    /// Their values now, satellite-major: satellite i's at `i * k .. (i + 1) * k`.
+    pub law_outputs: &'a [f64],
+    /// The threat and obstacle monitors so far.
+    pub environment: EnvironmentSnapshot,
+}
+
+/// The continuous threat and obstacle monitors from the start of the run to a recording time.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnvironmentSnapshot {
+    /// Number of threats in the scenario.
+    pub threats: usize,
+    /// Number of obstacles in the scenario.
+    pub obstacles: usize,
+    /// Smallest distance between a live satellite and a threat so far \[m\] (None: no threat, or none
+    /// observed yet).
+    pub min_threat_distance_m: Option<f64>,
+    /// Smallest clearance between a live satellite and an obstacle's surface so far \[m\] (negative:
+    /// inside; None: no obstacle, or none observed yet).
+    pub min_obstacle_clearance_m: Option<f64>,
+    /// Entries of satellites into threat danger spheres so far.
+    pub threat_incursions: u64,
+    /// Entries of satellites into obstacles so far.
+    pub obstacle_incursions: u64,
 }
 
 /// A consumer of snapshots (CSV writers, in-memory collectors for tests, Python callbacks).

@@ -9,14 +9,13 @@ use nalgebra::Vector3;
 
 use crate::validate::{Check, Report, ValidateError, Verdict};
 use satflock::guidance::bifurcating::{BifurcatingParameters, ShapeError};
-use satflock::guidance::parameters::merge_parameters;
 use satflock::guidance::LawConfig;
 use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::metrics::{five_elements, FiveElements, FiveElementsWorkspace};
 use satflock::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel};
 use satflock::propagate::{propagate, PropagationSettings};
 use satflock::scenario::schema::ActionSection;
-use satflock::scenario::Scenario;
+use satflock::scenario::{merge_law_parameters, Scenario};
 use satflock::swarm::{Recorder, Simulation, Snapshot};
 
 /// Seeds of the seed-dependent reproductions (spec §6: at least 5, median reported).
@@ -143,7 +142,11 @@ pub fn run_builtin(name: &str, seed: u64, duration_s: Option<f64>) -> Result<Tra
                 .last()
                 .map(|s| s.1.clone())
                 .unwrap_or(initial.clone());
-            let merged = merge_parameters("bifurcating", &last, parameters).map_err(failed)?;
+            let merged =
+                merge_law_parameters(&LawConfig::Bifurcating(last), parameters).map_err(failed)?;
+            let LawConfig::Bifurcating(merged) = merged else {
+                unreachable!("set-law-parameters keeps the law");
+            };
             schedule.push((e.time_s, merged));
         }
     }

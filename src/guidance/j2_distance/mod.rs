@@ -26,12 +26,11 @@ use std::sync::Arc;
 use nalgebra::{DMatrix, Matrix3, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
-use crate::guidance::parameters::merge_parameters;
 use crate::orbit::RelativeStateHill;
 use crate::relative::j2_averaged::{
     connectable_time_s, z_frequency_feedforward_m_s2, AveragedJ2, OrbitParameters, SwarmPlane,
 };
-use crate::swarm::{GuidanceLaw, LawError, SatelliteView, SwarmView};
+use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
 
 use grouping::{group, Components, GroupingSettings, Node};
 
@@ -624,11 +623,14 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 impl GuidanceLaw for J2Distance {
+    type State = ();
+    type Parameters = J2DistanceParameters;
+
     fn name(&self) -> &'static str {
         "j2-distance"
     }
 
-    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
+    fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
         self.derive(swarm);
         self.next_grouping_s = swarm.shared.time_s;
         Ok(())
@@ -757,7 +759,12 @@ impl GuidanceLaw for J2Distance {
         Ok(())
     }
 
-    fn command_m_s2(&self, satellite: &SatelliteView<'_>) -> Vector3<f64> {
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        _state: &(),
+        _context: &LawContext,
+    ) -> Vector3<f64> {
         let u = self.raw_command(satellite);
         // Norm saturation ‖f‖ ≤ f̄ (spec §7.7): u ← u min(1, f̄/(m‖u‖)).
         let limit = self.parameters.max_force_n / satellite.mass_kg();
@@ -803,7 +810,7 @@ impl GuidanceLaw for J2Distance {
     /// [`GuidanceLaw::results`]), plus the current edge count, component count and the cumulative
     /// edge-set changes. Angles are NaN while no satellite has r_xy > 0.05 m; T̂_conn is in hours
     /// (`inf` when no satellite drifts).
-    fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]) {
+    fn record_metrics(&mut self, swarm: &SwarmView<'_>, _states: &[()], values: &mut [f64]) {
         let Some(m) = self.instant_metrics(swarm) else {
             values.fill(f64::NAN);
             return;
@@ -823,10 +830,9 @@ impl GuidanceLaw for J2Distance {
         values[13] = self.stats.edge_changes as f64;
     }
 
-    fn set_parameters(&mut self, parameters: &toml::Table) -> Result<(), LawError> {
-        let merged = merge_parameters(self.name(), &self.parameters, parameters)?;
-        check(&merged)?;
-        self.parameters = merged;
+    fn set_parameters(&mut self, parameters: &J2DistanceParameters) -> Result<(), LawError> {
+        check(parameters)?;
+        self.parameters = parameters.clone();
         if let Some(d) = &mut self.derived {
             let model = d.model;
             let plane = SwarmPlane {
@@ -848,7 +854,11 @@ impl GuidanceLaw for J2Distance {
     /// plane angles over satellites with r_xy > 0.05 m \[deg\], min T̂_conn \[h\]; per edge r_xy/r_xyd
     /// percentiles; the fraction of live satellites saturated now; the edge list; grouping statistics
     /// and gains.
-    fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
+    fn results(
+        &self,
+        swarm: &SwarmView<'_>,
+        _states: &[()],
+    ) -> BTreeMap<String, serde_json::Value> {
         let mut out = BTreeMap::new();
         let (Some(d), Some(m)) = (&self.derived, self.instant_metrics(swarm)) else {
             return out;

@@ -1,0 +1,187 @@
+//! The interface between the engine and a guidance law.
+//!
+//! * [`GuidanceLaw`]: what a law implements — a per-satellite **state** (its own type, stored by the
+//!   engine for every satellite), a per-tick state **update**, and a **command** (an acceleration, or a
+//!   velocity in the kinematic mode) from what one satellite senses.
+//! * [`SatelliteView`] / [`SwarmView`] (module `view`): the read-only sensing views the engine builds.
+//! * [`LawContext`] (module `context`): what a law may use besides its view — its own random stream, the
+//!   control period and its satellite's actuator.
+//! * [`Law`] (module `handle`): a law together with the per-satellite states of every satellite, as the
+//!   engine holds it; it runs the double-buffered state update in parallel.
+//!
+//! Decentralisation is enforced by the types: a law computes one satellite's new state and command from a
+//! [`SatelliteView`] (its own navigation state, the neighbours its sensors and links reach, the threats and
+//! obstacles within its sensing range, the ground messages in force) and what those neighbours broadcast
+//! at the previous tick ([`Broadcast`]). Only [`GuidanceLaw::initialise`] (once, before the run or after a
+//! law switch), [`GuidanceLaw::centralised_update`] (a periodic **centralised** step the law schedules
+//! itself, e.g. a ground-computed grouping) and the recording hooks see the whole swarm.
+//!
+//! Every vector here is in the engine's internal LVLH convention, Hill/RSW (x radial out, y along-track,
+//! z orbit normal), relative to the LVLH origin (the virtual reference orbit or a member satellite). Laws
+//! written in another convention (Gao's o-xyz) convert at their boundary with
+//! [`crate::orbit::hill_to_gao`] / [`crate::orbit::gao_to_hill`].
+
+mod context;
+mod handle;
+mod view;
+
+use std::collections::BTreeMap;
+
+use nalgebra::Vector3;
+use thiserror::Error;
+
+pub use context::LawContext;
+pub use handle::{Law, LawParameters};
+pub use view::{
+    Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,
+    SwarmView,
+};
+
+/// What a law's command is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CommandKind {
+    /// An acceleration, Hill frame \[m/s^2\], applied through the actuators (dynamic models).
+    Acceleration,
+    /// A velocity, Hill frame \[m/s\], followed exactly (the kinematic model only).
+    Velocity,
+}
+
+/// A law's failure to accept its parameters or to start.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum LawError {
+    /// A parameter is missing, unknown, of the wrong type or out of range.
+    #[error("law `{law}`: {message}")]
+    InvalidParameters {
+        /// The law's registry name.
+        law: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
+    /// Parameters of another law's type were handed to this law.
+    #[error("law `{law}` takes parameters of type `{expected}`")]
+    ParameterType {
+        /// The law's registry name.
+        law: &'static str,
+        /// The parameter type the law takes.
+        expected: &'static str,
+    },
+}
+
+/// A guidance law: maps what one satellite senses, and its own state, to its command.
+///
+/// **Per-tick order** (see `DESIGN.md`): sense → [`GuidanceLaw::update_state`] for every satellite →
+/// [`GuidanceLaw::command`] → actuate → integrate → monitor → record. The update runs once per control
+/// tick (sampled mode) or once per integration step (continuous mode), outside the integrator's
+/// right-hand side, in parallel over satellites, and is double-buffered: satellite i's update reads its
+/// own previous state and its neighbours' previous states, never a state written in the same tick, so the
+/// result does not depend on satellite order or thread count. The command may run many times per step
+/// (once per Runge–Kutta stage in continuous mode) and only reads the state.
+///
+/// Implementations must be deterministic functions of their inputs: randomness comes only from
+/// [`LawContext::random`], so runs are reproducible on any thread count. A law never touches the
+/// integrator or the truth state.
+pub trait GuidanceLaw: Send + Sync + 'static {
+    /// Per-satellite state kept by the engine between ticks (`()` for a memoryless law).
+    type State: Clone + Default + Send + Sync + 'static;
+    /// The law's parameter set, as replaced by a `set-law-parameters` event (already validated by the
+    /// scenario layer when the scenario was loaded).
+    type Parameters: Send + Sync + 'static;
+
+    /// Registry name of the law (as written in scenario files).
+    fn name(&self) -> &'static str;
+
+    /// What [`GuidanceLaw::command`] returns. Default: an acceleration. The engine refuses a velocity law
+    /// on a dynamic model and an acceleration law on the kinematic model.
+    fn command_kind(&self) -> CommandKind {
+        CommandKind::Acceleration
+    }
+
+    /// Called once before the run starts, and again when the law is switched in by an event, with the
+    /// whole swarm and every satellite's state (all `Default` on entry). Default: nothing to do.
+    fn initialise(
+        &mut self,
+        _swarm: &SwarmView<'_>,
+        _states: &mut [Self::State],
+    ) -> Result<(), LawError> {
+        Ok(())
+    }
+
+    /// Satellite `satellite.id()`'s new state, from what it senses now, its own previous state and what
+    /// its neighbours broadcast at the previous tick. Default: the state is kept.
+    fn update_state(
+        &self,
+        _satellite: &SatelliteView<'_>,
+        broadcast: &Broadcast<'_, Self::State>,
+        _context: &LawContext,
+    ) -> Self::State {
+        broadcast.own().clone()
+    }
+
+    /// The command of one satellite, Hill frame: an acceleration \[m/s^2\] before actuator limits, or a
+    /// velocity \[m/s\] for a kinematic law (see [`GuidanceLaw::command_kind`]).
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        state: &Self::State,
+        context: &LawContext,
+    ) -> Vector3<f64>;
+
+    /// Replaces the parameters (an event of the timeline; the scenario layer has merged the event's keys
+    /// with the current values and validated the result).
+    fn set_parameters(&mut self, parameters: &Self::Parameters) -> Result<(), LawError>;
+
+    /// The fastest closed-loop rate \[1/s\] the law can impose on a satellite of the given mass, if it has
+    /// one: the engine refuses a control period or a fixed integration step too long to resolve it.
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        None
+    }
+
+    /// Names of the per-satellite outputs a user may want to see (e.g. a warning mode), each with its unit
+    /// or meaning; written as per-satellite columns of the trajectory. Default: none.
+    fn output_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Writes the values of [`GuidanceLaw::output_names`] for one satellite's state into `values`.
+    fn write_outputs(&self, _state: &Self::State, _values: &mut [f64]) {}
+
+    /// Names of the scalar metrics the law reports at every recording time (extra columns of
+    /// `metrics.csv`, each name with its unit). Default: none.
+    fn metric_names(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Called at every recording time (outside the integrator, in time order) with the truth swarm and
+    /// every satellite's state: writes the values of [`GuidanceLaw::metric_names`] into `values` (same
+    /// order and length). The law may keep what it needs across calls. Default: nothing.
+    fn record_metrics(
+        &mut self,
+        _swarm: &SwarmView<'_>,
+        _states: &[Self::State],
+        _values: &mut [f64],
+    ) {
+    }
+
+    /// Whether the law's centralised step is due at the control tick `time_s` \[s\]. Default: never.
+    fn centralised_due(&self, _time_s: f64) -> bool {
+        false
+    }
+
+    /// A **centralised** step with the whole swarm (truth states, who is alive and linked), run before the
+    /// state updates of a tick at which [`GuidanceLaw::centralised_due`] is `true`. It models a computation
+    /// that needs every satellite at once (a ground segment or an elected leader); laws that use it are not
+    /// fully decentralised and must say so. Default: nothing to do.
+    fn centralised_update(&mut self, _swarm: &SwarmView<'_>) -> Result<(), LawError> {
+        Ok(())
+    }
+
+    /// Law-specific results for `summary.json`, from the final swarm and states. Default: none.
+    fn results(
+        &self,
+        _swarm: &SwarmView<'_>,
+        _states: &[Self::State],
+    ) -> BTreeMap<String, serde_json::Value> {
+        BTreeMap::new()
+    }
+}

@@ -1,0 +1,267 @@
+//! The read-only sensing views the engine builds for a law: [`SwarmView`] (the whole swarm, for the
+//! whole-swarm hooks), [`SatelliteView`] (what one satellite senses: own state, reachable neighbours,
+//! threats and obstacles within range, ground messages in force) and [`Broadcast`] (what the neighbours
+//! broadcast at the previous tick: their law states).
+//!
+//! Every vector is in the Hill frame (x radial out, y along-track, z orbit normal) relative to the LVLH
+//! origin \[m, m/s\].
+
+use nalgebra::Vector3;
+
+use crate::environment::{Obstacle, Threat};
+use crate::grid::NeighbourGrid;
+use crate::orbit::RelativeStateHill;
+use crate::relative::SchweighartSedwick;
+
+/// Swarm-level information granted to every satellite (ground warnings, broadcast quantities).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SharedInfo {
+    /// Simulation time since the scenario start \[s\].
+    pub time_s: f64,
+    /// Mean motion of the reference orbit \[rad/s\] (for CW/HCW feed-forward terms).
+    pub mean_motion_rad_s: f64,
+    /// Range of every satellite's sensors and links \[m\]: neighbours farther away are never visited.
+    pub sensing_range_m: f64,
+    /// Schweighart–Sedwick J2-linearised model of the reference orbit at t = 0 (radius and osculating
+    /// inclination of the LVLH origin's initial state; the model itself for `J2Linear` dynamics, J2 = 0
+    /// for the J2-free models), for laws built on averaged J2 constants.
+    pub reference_model: SchweighartSedwick,
+}
+
+/// What a satellite senses of a threat within its sensing range (or the threat's own detection range).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensedThreat {
+    /// The threat's index in the scenario.
+    pub id: usize,
+    /// The threat's position relative to the LVLH origin, Hill frame \[m\].
+    pub position_hill_m: Vector3<f64>,
+    /// The threat's velocity relative to the rotating Hill frame \[m/s\].
+    pub velocity_hill_mps: Vector3<f64>,
+    /// Threat position minus own position, Hill frame \[m\].
+    pub offset_m: Vector3<f64>,
+    /// Distance from the satellite to the threat \[m\].
+    pub distance_m: f64,
+    /// Radius of the threat's danger sphere \[m\].
+    pub danger_radius_m: f64,
+}
+
+/// What a satellite senses of an obstacle within its sensing range (or the obstacle's detection range).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensedObstacle {
+    /// The obstacle's index in the scenario.
+    pub id: usize,
+    /// Centre of the sphere relative to the LVLH origin, Hill frame \[m\].
+    pub center_hill_m: Vector3<f64>,
+    /// Radius of the sphere \[m\].
+    pub radius_m: f64,
+    /// Centre minus own position, Hill frame \[m\].
+    pub offset_m: Vector3<f64>,
+    /// Distance from the satellite to the centre \[m\] (the surface is `radius_m` closer).
+    pub distance_m: f64,
+}
+
+/// What satellite `i` knows of a neighbour `j` within sensing range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Neighbour {
+    /// The neighbour's index.
+    pub id: usize,
+    /// The neighbour's state relative to the LVLH origin, Hill frame \[m, m/s\].
+    pub state: RelativeStateHill,
+    /// Neighbour position minus own position, Hill frame \[m\].
+    pub offset_m: Vector3<f64>,
+    /// Distance between the two satellites \[m\].
+    pub distance_m: f64,
+}
+
+/// The whole swarm as the engine sees it at one right-hand-side evaluation: navigation states relative to
+/// the LVLH origin (Hill frame), who is alive and linked, and the neighbour grid over those positions.
+/// Laws get a [`SatelliteView`] of it, never the whole view, except in the whole-swarm hooks of
+/// [`crate::swarm::GuidanceLaw`] (`initialise`, `centralised_update`, `record_metrics`, `results`).
+#[derive(Clone, Copy)]
+pub struct SwarmView<'a> {
+    /// Relative states, Hill frame, one per satellite (navigation solution: truth plus any noise).
+    pub relative_states: &'a [RelativeStateHill],
+    /// Masses \[kg\].
+    pub masses_kg: &'a [f64],
+    /// `false` for satellites removed from the swarm.
+    pub active: &'a [bool],
+    /// `false` for satellites whose links are cut: they neither see nor are seen.
+    pub links_up: &'a [bool],
+    /// Grid over the navigation positions, built with the sensing range as its radius (empty if a
+    /// position was not finite; the divergence check then stops the run after the step).
+    pub grid: &'a NeighbourGrid,
+    /// Swarm-level information.
+    pub shared: SharedInfo,
+    /// Threats, obstacles and ground messages.
+    pub environment: EnvironmentView<'a>,
+}
+
+/// The environment a view senses: the scenario's threats and obstacles, and the ground messages in force.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct EnvironmentView<'a> {
+    /// Kinematic threats (straight lines in the Hill frame).
+    pub threats: &'a [Threat],
+    /// Static spheres in the Hill frame.
+    pub obstacles: &'a [Obstacle],
+    /// Per threat: whether a ground warning about it is in force.
+    pub threat_warnings: &'a [bool],
+}
+
+impl<'a> SwarmView<'a> {
+    /// Number of satellites (including removed ones, whose `active` flag is false).
+    pub fn len(&self) -> usize {
+        self.relative_states.len()
+    }
+
+    /// Whether the swarm has no satellites.
+    pub fn is_empty(&self) -> bool {
+        self.relative_states.is_empty()
+    }
+
+    /// The view satellite `id` is allowed to have.
+    pub fn satellite(&self, id: usize) -> SatelliteView<'a> {
+        SatelliteView { id, swarm: *self }
+    }
+}
+
+/// What one satellite senses: its own state, its reachable neighbours and the shared information.
+#[derive(Clone, Copy)]
+pub struct SatelliteView<'a> {
+    id: usize,
+    swarm: SwarmView<'a>,
+}
+
+impl SatelliteView<'_> {
+    /// This satellite's index.
+    pub fn id(&self) -> usize {
+        self.id
+    }
+
+    /// Own state relative to the LVLH origin, Hill frame \[m, m/s\].
+    pub fn own_state(&self) -> RelativeStateHill {
+        self.swarm.relative_states[self.id]
+    }
+
+    /// Own mass \[kg\].
+    pub fn mass_kg(&self) -> f64 {
+        self.swarm.masses_kg[self.id]
+    }
+
+    /// Swarm-level information.
+    pub fn shared(&self) -> &SharedInfo {
+        &self.swarm.shared
+    }
+
+    /// Visits every live, linked neighbour within sensing range, in a deterministic order.
+    /// A satellite whose own links are cut sees nobody.
+    pub fn for_each_neighbour(&self, mut visit: impl FnMut(&Neighbour)) {
+        let s = &self.swarm;
+        if !s.links_up[self.id] {
+            return;
+        }
+        s.grid.for_each_neighbour(self.id, |nb| {
+            let j = nb.index;
+            if s.active[j] && s.links_up[j] {
+                visit(&Neighbour {
+                    id: j,
+                    state: s.relative_states[j],
+                    offset_m: Vector3::new(nb.dx_m, nb.dy_m, nb.dz_m),
+                    distance_m: nb.distance_m,
+                });
+            }
+        });
+    }
+
+    /// Visits every threat within sensing range (the threat's detection range where the scenario gives
+    /// one, else the satellite's sensing range), in scenario order. Threats are sensed by the satellite's
+    /// own sensors: a satellite whose links are cut still sees them.
+    pub fn for_each_threat(&self, mut visit: impl FnMut(&SensedThreat)) {
+        let s = &self.swarm;
+        let own = s.relative_states[self.id].position_m;
+        for (id, threat) in s.environment.threats.iter().enumerate() {
+            let position = threat.position_hill_m(s.shared.time_s);
+            let offset_m = position - own;
+            let distance_m = offset_m.norm();
+            let range = threat
+                .detection_range_m()
+                .unwrap_or(s.shared.sensing_range_m);
+            if distance_m <= range {
+                visit(&SensedThreat {
+                    id,
+                    position_hill_m: position,
+                    velocity_hill_mps: threat.velocity_hill_mps(),
+                    offset_m,
+                    distance_m,
+                    danger_radius_m: threat.danger_radius_m(),
+                });
+            }
+        }
+    }
+
+    /// Visits every obstacle within sensing range (the obstacle's detection range where the scenario
+    /// gives one, else the satellite's sensing range; measured to the surface), in scenario order.
+    pub fn for_each_obstacle(&self, mut visit: impl FnMut(&SensedObstacle)) {
+        let s = &self.swarm;
+        let own = s.relative_states[self.id].position_m;
+        for (id, obstacle) in s.environment.obstacles.iter().enumerate() {
+            let center = obstacle.center_hill_m();
+            let offset_m = center - own;
+            let distance_m = offset_m.norm();
+            let range = obstacle
+                .detection_range_m()
+                .unwrap_or(s.shared.sensing_range_m);
+            if distance_m - obstacle.radius_m() <= range {
+                visit(&SensedObstacle {
+                    id,
+                    center_hill_m: center,
+                    radius_m: obstacle.radius_m(),
+                    offset_m,
+                    distance_m,
+                });
+            }
+        }
+    }
+
+    /// Whether a ground warning about threat `threat` is in force (a ground message: it reaches the
+    /// satellite whatever its links).
+    pub fn threat_warning(&self, threat: usize) -> bool {
+        self.swarm
+            .environment
+            .threat_warnings
+            .get(threat)
+            .copied()
+            .unwrap_or(false)
+    }
+
+    /// Whether any ground threat warning is in force.
+    pub fn any_threat_warning(&self) -> bool {
+        self.swarm.environment.threat_warnings.iter().any(|w| *w)
+    }
+}
+
+/// What a satellite's neighbours broadcast at the previous tick: their law states, readable only through
+/// a [`Neighbour`] the satellite's view gave it, plus the satellite's own previous state.
+#[derive(Clone, Copy)]
+pub struct Broadcast<'a, S> {
+    own: &'a S,
+    previous: &'a [S],
+}
+
+impl<'a, S> Broadcast<'a, S> {
+    pub(crate) fn new(id: usize, previous: &'a [S]) -> Self {
+        Self {
+            own: &previous[id],
+            previous,
+        }
+    }
+
+    /// The satellite's own state at the previous tick.
+    pub fn own(&self) -> &'a S {
+        self.own
+    }
+
+    /// What `neighbour` broadcast at the previous tick.
+    pub fn of(&self, neighbour: &Neighbour) -> &'a S {
+        &self.previous[neighbour.id]
+    }
+}

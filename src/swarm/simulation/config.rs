@@ -1,0 +1,326 @@
+//! What a simulation is built from ([`SimulationConfig`], [`SatelliteInit`]), why it can stop or refuse
+//! to start ([`SimError`], typed variants carrying the numbers), and what a finished run totals
+//! ([`RunTotals`]).
+
+use thiserror::Error;
+
+use crate::environment::{Obstacle, Threat};
+use crate::integrate::{IntegrateError, IntegratorMethod, Tolerances};
+use crate::metrics::FiveElements;
+use crate::orbit::{CartesianState, EarthModel, RelativeStateHill};
+use crate::swarm::actuator::Actuator;
+use crate::swarm::dynamics::DynamicsModel;
+use crate::swarm::law::{CommandKind, Law, LawError};
+
+/// When the guidance law is evaluated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ControlTiming {
+    /// Inside the integrator's right-hand side; the swarm is integrated as one coupled system. Law
+    /// states are updated once per integration step (`step_s`).
+    Continuous,
+    /// Every `period_s` seconds, command held in between (zero-order hold).
+    Sampled {
+        /// Control period \[s\].
+        period_s: f64,
+    },
+}
+
+/// What the LVLH frame (and so every relative state a law sees) is centred on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// The uncontrolled virtual reference orbit.
+    VirtualReference,
+    /// A member satellite (e.g. the "target spacecraft" of a cluster).
+    Member(usize),
+}
+
+/// Sensors and links of every satellite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sensing {
+    /// Range of sensors and inter-satellite links \[m\].
+    pub range_m: f64,
+    /// Standard deviation of each satellite's navigation position error, per Hill axis \[m\].
+    pub position_noise_m: f64,
+    /// Standard deviation of each satellite's navigation velocity error, per Hill axis \[m/s\].
+    pub velocity_noise_mps: f64,
+}
+
+/// Everything the engine needs besides the satellites and the law.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationConfig {
+    /// Earth constants.
+    pub earth: EarthModel,
+    /// Truth dynamics.
+    pub dynamics: DynamicsModel,
+    /// Integration method.
+    pub integrator: IntegratorMethod,
+    /// RK4 step, or the longest step and segment length of the adaptive method \[s\].
+    pub step_s: f64,
+    /// Tolerances of the adaptive method.
+    pub tolerances: Tolerances,
+    /// When the law is evaluated.
+    pub control: ControlTiming,
+    /// LVLH origin.
+    pub origin: Origin,
+    /// Reference orbit at t = 0, ECI.
+    pub reference: CartesianState,
+    /// Mean motion of the reference orbit \[rad/s\], given to laws.
+    pub mean_motion_rad_s: f64,
+    /// Length of the run \[s\].
+    pub duration_s: f64,
+    /// Recording cadence \[s\].
+    pub record_interval_s: f64,
+    /// Sensors and links.
+    pub sensing: Sensing,
+    /// Standard deviation of the process (acceleration) noise per satellite and Hill axis \[m/s^2\], held
+    /// over a control period (sampled) or integration step (continuous); 0 for none. A disturbance: it
+    /// moves the satellites but is not counted in the delta-v ledger.
+    pub process_noise_m_s2: f64,
+    /// Kinematic threats (straight lines in the Hill frame).
+    pub threats: Vec<Threat>,
+    /// Static spherical obstacles in the Hill frame.
+    pub obstacles: Vec<Obstacle>,
+    /// A satellite farther than this from the LVLH origin stops the run as diverged \[m\].
+    pub max_distance_m: f64,
+    /// Seed of every random draw of the run.
+    pub seed: u64,
+}
+
+impl SimulationConfig {
+    /// Base step: the control period in sampled mode, the integration step in continuous mode \[s\].
+    pub fn base_step_s(&self) -> f64 {
+        match self.control {
+            ControlTiming::Sampled { period_s } => period_s,
+            ControlTiming::Continuous => self.step_s,
+        }
+    }
+}
+
+/// One satellite at t = 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SatelliteInit {
+    /// State relative to the reference orbit at t = 0, Hill frame \[m, m/s\].
+    pub relative_state: RelativeStateHill,
+    /// Mass \[kg\].
+    pub mass_kg: f64,
+    /// Physical radius \[m\] (collision counting and d_min).
+    pub radius_m: f64,
+    /// Thrusters.
+    pub actuator: Actuator,
+}
+
+/// What a divergence check saw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Divergence {
+    /// A position or velocity component is NaN or infinite.
+    NotFinite,
+    /// The satellite is farther from the LVLH origin than allowed.
+    TooFar {
+        /// Its distance \[m\].
+        distance_m: f64,
+        /// The bound, `dynamics.max_distance_m` \[m\].
+        limit_m: f64,
+    },
+}
+
+impl std::fmt::Display for Divergence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Divergence::NotFinite => f.write_str("state is not finite (NaN or infinite)"),
+            Divergence::TooFar {
+                distance_m,
+                limit_m,
+            } => write!(
+                f,
+                "{distance_m:.3} m from the LVLH origin, beyond the allowed {limit_m} m"
+            ),
+        }
+    }
+}
+
+/// Why a run stopped early or could not start. Setup errors ([`SimError::is_setup`]) are the caller's
+/// input; the others happen while running.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum SimError {
+    /// The swarm is empty.
+    #[error("the swarm has no satellite (allowed: 1 or more)")]
+    NoSatellites,
+    /// The sensing range is not a positive finite number.
+    #[error("sensing range {range_m} m is out of range (allowed: finite, > 0)")]
+    SensingRange {
+        /// The range given \[m\].
+        range_m: f64,
+    },
+    /// The LVLH origin names a satellite that does not exist.
+    #[error("origin member {member} does not exist (allowed: 0..{count})")]
+    OriginMember {
+        /// The index given.
+        member: usize,
+        /// Number of satellites.
+        count: usize,
+    },
+    /// An event lies outside the run.
+    #[error("event `{event}` at t = {time_s} s is outside the run [0, {duration_s}] s")]
+    EventOutsideRun {
+        /// What the event does.
+        event: String,
+        /// Its time \[s\].
+        time_s: f64,
+        /// Length of the run \[s\].
+        duration_s: f64,
+    },
+    /// An event names a satellite or threat that does not exist.
+    #[error("event `{event}` at t = {time_s} s names {what} {index}, which does not exist (allowed: 0..{count})")]
+    EventTarget {
+        /// What the event does.
+        event: String,
+        /// Its time \[s\].
+        time_s: f64,
+        /// `satellite` or `threat`.
+        what: &'static str,
+        /// The index given.
+        index: usize,
+        /// How many exist.
+        count: usize,
+    },
+    /// The control period is too long for the law's fastest closed-loop rate.
+    #[error(
+        "control period {period_s} s is too long for law `{law}`, whose fastest closed-loop rate is \
+         {rate_per_s:.4} 1/s: a zero-order hold needs period < {limit_s:.4} s to stay accurate \
+         (unstable beyond {:.4} s)", 2.0 * limit_s
+    )]
+    ControlPeriodTooLong {
+        /// The law.
+        law: &'static str,
+        /// The period \[s\].
+        period_s: f64,
+        /// The longest accepted period \[s\].
+        limit_s: f64,
+        /// The law's fastest rate \[1/s\].
+        rate_per_s: f64,
+    },
+    /// The fixed integration step is too long for the law's fastest closed-loop rate.
+    #[error(
+        "integration step {step_s} s is too long for law `{law}`, whose fastest closed-loop rate is \
+         {rate_per_s:.4} 1/s: RK4 needs step < {limit_s:.4} s (unstable beyond {:.4} s)",
+        limit_s * 2.78 / 1.4
+    )]
+    StepTooLong {
+        /// The law.
+        law: &'static str,
+        /// The step \[s\].
+        step_s: f64,
+        /// The longest accepted step \[s\].
+        limit_s: f64,
+        /// The law's fastest rate \[1/s\].
+        rate_per_s: f64,
+    },
+    /// The law's command kind does not fit the dynamics (velocity commands need the kinematic model,
+    /// acceleration commands a dynamic one).
+    #[error("law `{law}` commands {command:?}, which the `{dynamics}` dynamics cannot follow")]
+    CommandKindMismatch {
+        /// The law.
+        law: &'static str,
+        /// What it commands.
+        command: CommandKind,
+        /// The dynamics model.
+        dynamics: &'static str,
+    },
+    /// A satellite's state became non-finite or left the allowed distance from the LVLH origin.
+    #[error("satellite {satellite} diverged at t = {time_s} s: {reason}")]
+    Diverged {
+        /// Index of the first diverging satellite.
+        satellite: usize,
+        /// Time of detection \[s\].
+        time_s: f64,
+        /// What was seen.
+        reason: Divergence,
+    },
+    /// The integrator failed (step-size underflow, non-finite derivative).
+    #[error("integration failed: {0}")]
+    Integration(#[from] IntegrateError),
+    /// The law refused its parameters or could not start.
+    #[error(transparent)]
+    Law(#[from] LawError),
+    /// The recorder could not write.
+    #[error("recording failed: {0}")]
+    Recording(#[from] std::io::Error),
+}
+
+impl SimError {
+    /// Whether the error is about the input (the setup), as opposed to something that happened while
+    /// running: a command-line tool maps the first to a usage error.
+    pub fn is_setup(&self) -> bool {
+        matches!(
+            self,
+            SimError::NoSatellites
+                | SimError::SensingRange { .. }
+                | SimError::OriginMember { .. }
+                | SimError::EventOutsideRun { .. }
+                | SimError::EventTarget { .. }
+                | SimError::ControlPeriodTooLong { .. }
+                | SimError::StepTooLong { .. }
+                | SimError::CommandKindMismatch { .. }
+        )
+    }
+}
+
+/// Refuses steps and control periods that cannot resolve the law's fastest closed-loop rate k (for the
+/// lightest satellite): RK4 is stable for h·k ≤ 2.78 and a zero-order hold for T·k < 2 (first-order
+/// damping). A margin of two on both keeps the run accurate, not merely bounded. Also refuses a command
+/// kind the dynamics cannot follow.
+pub fn check_law_fits(
+    law: &Law,
+    config: &SimulationConfig,
+    min_mass_kg: f64,
+) -> Result<(), SimError> {
+    let kinematic = matches!(config.dynamics, DynamicsModel::Kinematic);
+    let command = law.command_kind();
+    if kinematic != (command == CommandKind::Velocity) {
+        return Err(SimError::CommandKindMismatch {
+            law: law.name(),
+            command,
+            dynamics: config.dynamics.name(),
+        });
+    }
+    let Some(rate) = law.fastest_rate_per_s(min_mass_kg) else {
+        return Ok(());
+    };
+    if let ControlTiming::Sampled { period_s } = config.control {
+        if period_s * rate >= 1.0 {
+            return Err(SimError::ControlPeriodTooLong {
+                law: law.name(),
+                period_s,
+                limit_s: 1.0 / rate,
+                rate_per_s: rate,
+            });
+        }
+    }
+    if config.integrator == IntegratorMethod::Rk4 && config.step_s * rate >= 1.4 {
+        return Err(SimError::StepTooLong {
+            law: law.name(),
+            step_s: config.step_s,
+            limit_s: 1.4 / rate,
+            rate_per_s: rate,
+        });
+    }
+    Ok(())
+}
+
+/// Totals of a run so far.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunTotals {
+    /// Simulated time reached \[s\].
+    pub time_s: f64,
+    /// Satellite-steps integrated (live satellites × base steps).
+    pub satellite_steps: u64,
+    /// Smallest separation between two live satellites seen at any segment end \[m\].
+    pub min_separation_m: f64,
+    /// Largest number of simultaneous collisions (pairs closer than the sum of radii) seen.
+    pub max_collisions: usize,
+    /// Distinct colliding pairs counted at segment ends, summed over the run.
+    pub collision_pair_samples: usize,
+    /// Five elements at the last time.
+    pub final_five_elements: Option<FiveElements>,
+}

@@ -1,0 +1,427 @@
+//! The simulation: the swarm's state, its satellites, the law with its per-satellite states, the
+//! environment and the event timeline, and the loop that advances them.
+//!
+//! | module | holds |
+//! | --- | --- |
+//! | `config` | what a simulation is built from, its typed errors, the law/timing fit check, run totals |
+//! | `sensing` | truth and navigation relative states, the sensing grid, the law's views, command evaluation |
+//! | `propagation` | one segment: the coupled swarm ODE (continuous) or every satellite alone (sampled) |
+//! | `scheduler` | the run loop: segments between ticks, records, events and the end; [`Simulation::advance_to`] |
+//! | `timeline` | applying the events that fall due |
+//! | `monitors` | truth checks after every segment: divergence, separation, threat approach, obstacle clearance |
+//! | `snapshots` | what a recorder receives at every recording time |
+//!
+//! Control timing (see `DESIGN.md`):
+//! * [`ControlTiming::Continuous`]: the law's command is evaluated inside the integrator's right-hand
+//!   side and the swarm (reference, satellites and delta-v ledgers) is integrated as one coupled system;
+//!   law states are updated once per integration step, outside the right-hand side;
+//! * [`ControlTiming::Sampled`]: at every control tick the law states are updated and the command is
+//!   evaluated and held (zero-order hold, constant in the dynamics frame: ECI for inertial truth, Hill for
+//!   the linear models); between ticks every satellite is propagated on its own, in parallel.
+//!
+//! Per tick: sense → update law states → command → actuate → integrate → monitor → record.
+//!
+//! Determinism: every per-satellite computation is independent and written to its own slot; reductions
+//! are serial; every random draw comes from [`crate::random`] keyed by (seed, purpose, satellite, tick).
+//! Results are therefore bitwise identical for any number of threads.
+
+mod config;
+mod monitors;
+mod propagation;
+mod scheduler;
+mod sensing;
+mod snapshots;
+mod timeline;
+
+use std::sync::Mutex;
+
+use nalgebra::Vector3;
+
+pub use config::{
+    check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
+    SimulationConfig,
+};
+
+use crate::environment::ApproachMonitor;
+use crate::integrate::Stepper;
+use crate::orbit::{CartesianState, GravityModel, LvlhFrame, RelativeStateHill};
+use crate::relative::SchweighartSedwick;
+use crate::swarm::dynamics::DynamicsModel;
+use crate::swarm::events::{Event, EventAction, Selection};
+use crate::swarm::law::{Law, SwarmView};
+use crate::swarm::state::SwarmState;
+use monitors::LiveMetrics;
+use propagation::{SampledBuffers, StageScratch, SOLO};
+use sensing::{Fleet, Plant, Sensed, CHUNK};
+
+/// How a segment's integration is done: the coupled system (continuous) or satellites alone (sampled).
+/// Only the buffers of the chosen mode are allocated.
+enum Integration {
+    Coupled {
+        stepper: Box<Stepper>,
+        scratch: Box<Mutex<StageScratch>>,
+    },
+    Sampled(SampledBuffers),
+}
+
+/// A swarm simulation: state, satellites, law, environment, events, and the loop that advances them.
+pub struct Simulation {
+    config: SimulationConfig,
+    state: SwarmState,
+    time_s: f64,
+    fleet: Fleet,
+    law: Law,
+    /// Pending events, latest first (popped from the back).
+    events: Vec<Event>,
+    /// Per threat: whether a ground warning about it is in force.
+    threat_warnings: Vec<bool>,
+    /// Truth relative states at `time_s`, Hill frame (refreshed after every segment).
+    truth: Vec<RelativeStateHill>,
+    /// Truth relative states at the start of the last segment (for the continuous monitors).
+    truth_previous: Vec<RelativeStateHill>,
+    /// Navigation noise held over the current tick: position \[m\] and velocity \[m/s\], Hill frame.
+    navigation_noise: Vec<[f64; 6]>,
+    /// Process noise held over the current tick, Hill frame \[m/s^2\].
+    process_noise_hill: Vec<Vector3<f64>>,
+    /// The tick's sensing buffers (navigation states and grid).
+    sensed: Sensed,
+    live: LiveMetrics,
+    integration: Integration,
+    reference_stepper: Stepper,
+    /// Applied command of the tick, Hill frame (acceleration \[m/s^2\], or velocity \[m/s\] kinematic).
+    applied_hill: Vec<Vector3<f64>>,
+    /// Held command in the dynamics frame (ECI or Hill), sampled mode, process noise included.
+    held_control: Vec<Vector3<f64>>,
+    /// Ticks started so far (the index of the next tick).
+    tick: u64,
+    /// Base steps completed (the scheduler's tick grid).
+    step_count: u64,
+    /// Index of the next recording time.
+    record_count: u64,
+    /// Whether the snapshot at t = 0 has been recorded.
+    started: bool,
+    totals: RunTotals,
+    approach: ApproachMonitor,
+    /// SS model of the reference orbit at t = 0, given to laws ([`crate::swarm::SharedInfo::reference_model`]).
+    reference_model: SchweighartSedwick,
+}
+
+impl Simulation {
+    /// Builds a simulation. The satellites' initial states are relative to the reference orbit at t = 0.
+    /// Checks that the setup can run: at least one satellite, a valid origin, events inside the run and
+    /// naming satellites and threats that exist, a law whose commands the dynamics can follow, steps and
+    /// periods short enough for the law's fastest rate.
+    pub fn new(
+        config: SimulationConfig,
+        satellites: &[SatelliteInit],
+        law: Law,
+        mut events: Vec<Event>,
+    ) -> Result<Self, SimError> {
+        let n = satellites.len();
+        if n == 0 {
+            return Err(SimError::NoSatellites);
+        }
+        if !(config.sensing.range_m.is_finite() && config.sensing.range_m > 0.0) {
+            return Err(SimError::SensingRange {
+                range_m: config.sensing.range_m,
+            });
+        }
+        if let Origin::Member(k) = config.origin {
+            if k >= n {
+                return Err(SimError::OriginMember {
+                    member: k,
+                    count: n,
+                });
+            }
+        }
+        check_events(&events, &config, n)?;
+        // Stable sort keeps the file order of simultaneous events; reversed so that pop() is the next.
+        events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
+        events.reverse();
+
+        let mut state = SwarmState::zeros(n);
+        state.set_reference(&config.reference.position_m, &config.reference.velocity_mps);
+        let reference_frame = {
+            let accel = config
+                .dynamics
+                .reference_gravity()
+                .acceleration_m_s2(&config.earth, &config.reference.position_m);
+            LvlhFrame::from_reference_with_acceleration(&config.reference, &accel)
+        };
+        for (i, sat) in satellites.iter().enumerate() {
+            if config.dynamics.is_inertial() {
+                let s = reference_frame.from_hill(&sat.relative_state);
+                state.set_satellite(i, &s.position_m, &s.velocity_mps);
+            } else {
+                state.set_satellite(
+                    i,
+                    &sat.relative_state.position_m,
+                    &sat.relative_state.velocity_mps,
+                );
+            }
+        }
+        let reference_model = reference_model(&config, &reference_frame, satellites);
+        let integration = match config.control {
+            ControlTiming::Continuous => Integration::Coupled {
+                stepper: Box::new(Stepper::new(
+                    config.integrator,
+                    state.as_slice().len(),
+                    config.tolerances,
+                    config.step_s,
+                )),
+                scratch: Box::new(Mutex::new(StageScratch::new(n))),
+            },
+            ControlTiming::Sampled { .. } => Integration::Sampled(SampledBuffers {
+                steppers: (0..n.div_ceil(CHUNK))
+                    .map(|_| {
+                        Stepper::new(config.integrator, SOLO, config.tolerances, config.step_s)
+                    })
+                    .collect(),
+                per_satellite: vec![[0.0; SOLO]; n],
+            }),
+        };
+        let fleet = Fleet {
+            masses_kg: satellites.iter().map(|s| s.mass_kg).collect(),
+            radii_m: satellites.iter().map(|s| s.radius_m).collect(),
+            actuators: satellites.iter().map(|s| s.actuator).collect(),
+            active: vec![true; n],
+            links_up: vec![true; n],
+        };
+        let min_mass = fleet
+            .masses_kg
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        check_law_fits(&law, &config, min_mass)?;
+        let mut sim = Self {
+            reference_stepper: Stepper::new(config.integrator, 6, config.tolerances, config.step_s),
+            integration,
+            state,
+            time_s: 0.0,
+            fleet,
+            law,
+            events,
+            threat_warnings: vec![false; config.threats.len()],
+            truth: vec![RelativeStateHill::default(); n],
+            truth_previous: vec![RelativeStateHill::default(); n],
+            navigation_noise: vec![[0.0; 6]; n],
+            process_noise_hill: vec![Vector3::zeros(); n],
+            sensed: Sensed::new(n),
+            live: LiveMetrics::new(n),
+            applied_hill: vec![Vector3::zeros(); n],
+            held_control: vec![Vector3::zeros(); n],
+            tick: 0,
+            step_count: 0,
+            record_count: 1,
+            started: false,
+            totals: RunTotals {
+                time_s: 0.0,
+                satellite_steps: 0,
+                min_separation_m: f64::INFINITY,
+                max_collisions: 0,
+                collision_pair_samples: 0,
+                final_five_elements: None,
+            },
+            approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
+            reference_model,
+            config,
+        };
+        sim.refresh_truth();
+        sim.apply_due_events()?;
+        sim.initialise_law()?;
+        Ok(sim)
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SimulationConfig {
+        &self.config
+    }
+
+    /// Current time, seconds since the scenario start \[s\].
+    pub fn time_s(&self) -> f64 {
+        self.time_s
+    }
+
+    /// Current state (reference, satellites and delta-v ledgers in one flat buffer).
+    pub fn state(&self) -> &SwarmState {
+        &self.state
+    }
+
+    /// Which satellites are live.
+    pub fn active(&self) -> &[bool] {
+        &self.fleet.active
+    }
+
+    /// Every satellite's truth state now, relative to the LVLH origin, Hill frame \[m, m/s\].
+    pub fn states_hill(&self) -> &[RelativeStateHill] {
+        &self.truth
+    }
+
+    /// Every satellite's inertial state now, ECI (the engine's inertial frame) \[m, m/s\].
+    pub fn states_eci(&self) -> Vec<CartesianState> {
+        snapshots::inertial_states(&self.config, &self.state)
+    }
+
+    /// The Schweighart–Sedwick model of the reference orbit at t = 0 that laws get
+    /// ([`crate::swarm::SharedInfo::reference_model`]).
+    pub fn reference_model(&self) -> SchweighartSedwick {
+        self.reference_model
+    }
+
+    /// The running law with its per-satellite states.
+    pub fn law(&self) -> &Law {
+        &self.law
+    }
+
+    /// Every satellite's per-satellite law outputs now (satellite-major, see [`Law::write_outputs`]);
+    /// the names are `self.law().output_names()`.
+    pub fn law_outputs(&self) -> Vec<f64> {
+        let mut values = vec![0.0; self.law.output_names().len() * self.state.n()];
+        self.law.write_outputs(&mut values);
+        values
+    }
+
+    /// Per threat: whether a ground warning about it is in force.
+    pub fn threat_warnings(&self) -> &[bool] {
+        &self.threat_warnings
+    }
+
+    /// The continuous closest-approach and clearance monitor of the threats and obstacles.
+    pub fn approach_monitor(&self) -> &ApproachMonitor {
+        &self.approach
+    }
+
+    /// Totals so far.
+    pub fn totals(&self) -> &RunTotals {
+        &self.totals
+    }
+
+    /// Recomputes the truth relative states at the current time.
+    fn refresh_truth(&mut self) {
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            &self.threat_warnings,
+            self.reference_model,
+        );
+        plant.truth_relative(self.state.as_slice(), &mut self.truth);
+    }
+
+    /// Calls `f` with the running law and a whole-swarm view of the truth relative states now (no
+    /// navigation noise): the view the law's whole-swarm hooks get.
+    fn with_truth_view<R>(&mut self, f: impl FnOnce(&mut Law, &SwarmView<'_>) -> R) -> R {
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            &self.threat_warnings,
+            self.reference_model,
+        );
+        let view = plant.view(self.time_s, &self.truth, None, &mut self.sensed);
+        f(&mut self.law, &view)
+    }
+
+    fn initialise_law(&mut self) -> Result<(), SimError> {
+        self.with_truth_view(|law, view| law.initialise(view))?;
+        Ok(())
+    }
+
+    /// Every law metric name this run can record: the running law's, then those of the laws that events
+    /// switch in, without repeats (the columns a recorder must prepare).
+    pub fn law_metric_names(&self) -> Vec<&'static str> {
+        self.law_names(Law::metric_names)
+    }
+
+    /// Every per-satellite law output name this run can record (running law, then switched-in laws).
+    pub fn law_output_names(&self) -> Vec<&'static str> {
+        self.law_names(Law::output_names)
+    }
+
+    fn law_names(&self, names_of: fn(&Law) -> &'static [&'static str]) -> Vec<&'static str> {
+        let mut names: Vec<&'static str> = Vec::new();
+        let laws =
+            std::iter::once(&self.law).chain(self.events.iter().rev().filter_map(
+                |e| match &e.action {
+                    EventAction::SwitchLaw(law) => Some(law),
+                    _ => None,
+                },
+            ));
+        for law in laws {
+            for name in names_of(law) {
+                if !names.contains(name) {
+                    names.push(name);
+                }
+            }
+        }
+        names
+    }
+
+    /// The law's results for the summary, from the current (final) swarm.
+    pub fn law_results(&mut self) -> std::collections::BTreeMap<String, serde_json::Value> {
+        self.with_truth_view(|law, view| law.results(view))
+    }
+}
+
+/// Refuses events outside the run or naming satellites or threats that do not exist.
+fn check_events(events: &[Event], config: &SimulationConfig, n: usize) -> Result<(), SimError> {
+    for event in events {
+        let describe = || format!("{:?}", event.action);
+        if !(event.time_s >= 0.0 && event.time_s <= config.duration_s) {
+            return Err(SimError::EventOutsideRun {
+                event: describe(),
+                time_s: event.time_s,
+                duration_s: config.duration_s,
+            });
+        }
+        let (what, index, count) = match &event.action {
+            EventAction::RemoveSatellite(i) => ("satellite", Some(*i), n),
+            EventAction::FailThruster { satellite, .. } => ("satellite", Some(*satellite), n),
+            EventAction::CutLinks(Selection::Satellites(ids))
+            | EventAction::RestoreLinks(Selection::Satellites(ids)) => {
+                ("satellite", ids.iter().copied().find(|&i| i >= n), n)
+            }
+            EventAction::ThreatWarning { threat, .. } => {
+                ("threat", Some(*threat), config.threats.len())
+            }
+            _ => ("satellite", None, n),
+        };
+        if let Some(index) = index.filter(|&i| i >= count) {
+            return Err(SimError::EventTarget {
+                event: describe(),
+                time_s: event.time_s,
+                what,
+                index,
+                count,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The SS model of the reference orbit at t = 0: radius and osculating inclination of the LVLH origin's
+/// initial ECI state (the virtual reference, or the member origin's state); the dynamics' own model for
+/// `J2Linear`; J2 = 0 for the J2-free models.
+fn reference_model(
+    config: &SimulationConfig,
+    reference_frame: &LvlhFrame,
+    satellites: &[SatelliteInit],
+) -> SchweighartSedwick {
+    if let DynamicsModel::J2Linear(model) = config.dynamics {
+        return model;
+    }
+    let origin = match config.origin {
+        Origin::VirtualReference => config.reference,
+        Origin::Member(k) => reference_frame.from_hill(&satellites[k].relative_state),
+    };
+    let h = origin.specific_angular_momentum_m2_s();
+    let j2 = match config.dynamics {
+        DynamicsModel::Inertial(GravityModel::J2) | DynamicsModel::Kinematic => config.earth.j2,
+        _ => 0.0,
+    };
+    SchweighartSedwick::new(
+        origin.position_m.norm(),
+        (h.z / h.norm()).acos(),
+        config.earth.mu_m3_s2,
+        config.earth.equatorial_radius_m,
+        j2,
+    )
+}

@@ -1,0 +1,160 @@
+//! The truth monitors, run after every segment on truth states whatever the law does: divergence (a
+//! non-finite state, or a satellite beyond the allowed distance), the minimum separation and collision
+//! count, and the continuous closest approach to every threat and clearance of every obstacle (from each
+//! satellite's cubic Hermite path over the segment, so a minimum between two steps is not missed).
+
+use nalgebra::Vector3;
+
+use crate::environment::HermiteSegment;
+use crate::grid::NeighbourGrid;
+use crate::metrics::{min_separation, FiveElementsWorkspace};
+use crate::orbit::RelativeStateHill;
+use crate::swarm::simulation::{Divergence, SimError, Simulation};
+
+/// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
+pub(super) struct LiveMetrics {
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    radii_m: Vec<f64>,
+    grid: NeighbourGrid,
+    pub workspace: FiveElementsWorkspace,
+}
+
+impl LiveMetrics {
+    pub fn new(n: usize) -> Self {
+        Self {
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+            z: Vec::with_capacity(n),
+            radii_m: Vec::with_capacity(n),
+            grid: NeighbourGrid::new(),
+            workspace: FiveElementsWorkspace::new(),
+        }
+    }
+}
+
+impl Simulation {
+    /// Runs every truth monitor on the segment that ended now and started at `t0_s`.
+    pub(super) fn monitor(&mut self, t0_s: f64) -> Result<(), SimError> {
+        self.check_divergence()?;
+        let (separation, collisions) = live_separation(
+            &self.truth,
+            &self.fleet.active,
+            &self.fleet.radii_m,
+            &mut self.live,
+        );
+        self.totals.min_separation_m = self.totals.min_separation_m.min(separation);
+        self.totals.max_collisions = self.totals.max_collisions.max(collisions);
+        self.totals.collision_pair_samples += collisions;
+        if self.time_s > t0_s
+            && !(self.config.threats.is_empty() && self.config.obstacles.is_empty())
+        {
+            for (i, (start, end)) in self.truth_previous.iter().zip(&self.truth).enumerate() {
+                if !self.fleet.active[i] {
+                    continue;
+                }
+                // Finite states (checked above) and t1 > t0 make the segment valid.
+                if let Ok(segment) = HermiteSegment::new(
+                    t0_s,
+                    self.time_s,
+                    start.position_m,
+                    start.velocity_mps,
+                    end.position_m,
+                    end.velocity_mps,
+                ) {
+                    let _ = self.approach.observe_segment(
+                        i,
+                        &segment,
+                        &self.config.threats,
+                        &self.config.obstacles,
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_divergence(&self) -> Result<(), SimError> {
+        let bound = self.config.max_distance_m;
+        for (i, rel) in self.truth.iter().enumerate() {
+            if !self.fleet.active[i] {
+                continue;
+            }
+            let finite = rel.position_m.iter().all(|v| v.is_finite())
+                && rel.velocity_mps.iter().all(|v| v.is_finite());
+            let reason = if !finite {
+                Some(Divergence::NotFinite)
+            } else {
+                let distance_m = rel.position_m.norm();
+                (distance_m > bound).then_some(Divergence::TooFar {
+                    distance_m,
+                    limit_m: bound,
+                })
+            };
+            if let Some(reason) = reason {
+                return Err(SimError::Diverged {
+                    satellite: i,
+                    time_s: self.time_s,
+                    reason,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Minimum separation between live satellites \[m\] and the count of pairs closer than the sum of their
+/// radii, from relative positions (infinite and 0 with fewer than two live satellites). The search is
+/// exact at any distance; the grid's cell size only sets its speed, so it is taken from the swarm's own
+/// mean spacing (cube root of bounding-box volume per satellite, flat swarms padded to a slab).
+pub(super) fn live_separation(
+    relative: &[RelativeStateHill],
+    active: &[bool],
+    radii_m: &[f64],
+    live: &mut LiveMetrics,
+) -> (f64, usize) {
+    live.x.clear();
+    live.y.clear();
+    live.z.clear();
+    live.radii_m.clear();
+    let mut low = Vector3::repeat(f64::INFINITY);
+    let mut high = Vector3::repeat(f64::NEG_INFINITY);
+    for (i, rel) in relative.iter().enumerate() {
+        if active[i] {
+            let p = rel.position_m;
+            live.x.push(p.x);
+            live.y.push(p.y);
+            live.z.push(p.z);
+            live.radii_m.push(radii_m[i]);
+            low = low.inf(&p);
+            high = high.sup(&p);
+        }
+    }
+    let count = live.x.len();
+    if count < 2 {
+        return (f64::INFINITY, 0);
+    }
+    let extent = high - low;
+    let largest = extent.max();
+    if largest == 0.0 {
+        // Every live satellite at the same point.
+        let collisions = if live.radii_m.iter().any(|r| *r > 0.0) {
+            count * (count - 1) / 2
+        } else {
+            0
+        };
+        return (0.0, collisions);
+    }
+    let floor = largest / (count as f64).cbrt();
+    let volume: f64 = extent.iter().map(|e| e.max(floor)).product();
+    let cell_m = (volume / count as f64).cbrt();
+    // A non-finite position makes the cell size or the build fail; the divergence check reports it.
+    if !cell_m.is_finite() || live.grid.build(&live.x, &live.y, &live.z, cell_m).is_err() {
+        return (f64::NAN, 0);
+    }
+    match min_separation(&live.grid, &live.radii_m) {
+        Ok(sep) => (sep.min_distance_m, sep.collisions),
+        Err(_) => (f64::INFINITY, 0),
+    }
+}

@@ -1,0 +1,215 @@
+//! Propagation of one segment: the coupled swarm as one ODE with the law inside its right-hand side
+//! (continuous control timing), or every satellite alone under its held command (sampled timing,
+//! satellites in parallel), and the reference orbit.
+
+use std::sync::Mutex;
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use crate::integrate::{IntegrateError, OdeSystem, Stepper};
+use crate::orbit::RelativeStateHill;
+use crate::swarm::dynamics::DynamicsModel;
+use crate::swarm::law::Law;
+use crate::swarm::simulation::sensing::{Plant, Sensed, CHUNK};
+use crate::swarm::state::{
+    ledger_index, reference_of, satellite_index, satellite_of, LEDGER_COMPONENTS,
+    SATELLITE_COMPONENTS,
+};
+
+/// State components of one satellite propagated alone: position, velocity, delta-v ledger.
+pub(super) const SOLO: usize = SATELLITE_COMPONENTS + LEDGER_COMPONENTS;
+
+/// Buffers of one right-hand-side evaluation of the coupled swarm (continuous mode only).
+pub(super) struct StageScratch {
+    truth: Vec<RelativeStateHill>,
+    sensed: Sensed,
+    applied_hill: Vec<Vector3<f64>>,
+    per_satellite: Vec<[f64; SOLO]>,
+}
+
+impl StageScratch {
+    pub fn new(n: usize) -> Self {
+        Self {
+            truth: vec![RelativeStateHill::default(); n],
+            sensed: Sensed::new(n),
+            applied_hill: vec![Vector3::zeros(); n],
+            per_satellite: vec![[0.0; SOLO]; n],
+        }
+    }
+}
+
+/// The coupled swarm as one ODE (continuous control timing): reference, satellites and ledgers.
+pub(super) struct CoupledSwarm<'a> {
+    pub plant: Plant<'a>,
+    pub law: &'a Law,
+    pub tick: u64,
+    /// Navigation noise held over the step (None when there is none).
+    pub navigation_noise: Option<&'a [[f64; 6]]>,
+    /// Process noise held over the step, Hill frame \[m/s^2\].
+    pub process_noise_hill: &'a [Vector3<f64>],
+    pub scratch: &'a Mutex<StageScratch>,
+}
+
+impl OdeSystem for CoupledSwarm<'_> {
+    fn derivative(&self, t_s: f64, state: &[f64], derivative: &mut [f64]) {
+        let plant = &self.plant;
+        let config = plant.config;
+        let n = plant.n();
+        let mut guard = self.scratch.lock().unwrap_or_else(|e| e.into_inner());
+        let StageScratch {
+            truth,
+            sensed,
+            applied_hill,
+            per_satellite,
+        } = &mut *guard;
+        // Reference orbit: uncontrolled.
+        let (rp, rv) = reference_of(state);
+        let ra = config
+            .dynamics
+            .reference_gravity()
+            .acceleration_m_s2(&config.earth, &rp);
+        derivative[0..3].copy_from_slice(rv.as_slice());
+        derivative[3..6].copy_from_slice(ra.as_slice());
+
+        let frame = plant.truth_relative(state, truth);
+        let view = plant.view(t_s, truth, self.navigation_noise, sensed);
+        plant.commands(self.law, &view, self.tick, applied_hill);
+        let kinematic = matches!(config.dynamics, DynamicsModel::Kinematic);
+        per_satellite
+            .par_iter_mut()
+            .with_min_len(CHUNK)
+            .enumerate()
+            .for_each(|(i, d)| {
+                if !plant.fleet.active[i] {
+                    *d = [0.0; SOLO];
+                    return;
+                }
+                let (p, v) = satellite_of(state, n, i);
+                let u = applied_hill[i];
+                let (control, ledger) = if kinematic {
+                    (u, Vector3::zeros())
+                } else {
+                    let total = u + self.process_noise_hill[i];
+                    let control = match &frame {
+                        Some(f) => f.vector_hill_to_eci(&total),
+                        None => total,
+                    };
+                    (control, u)
+                };
+                let (dp, dv) =
+                    config
+                        .dynamics
+                        .satellite_derivative(&config.earth, &p, &v, &control);
+                *d = ledger_derivative(&dp, &dv, &ledger);
+            });
+        scatter(per_satellite, n, derivative);
+    }
+}
+
+/// Derivative of one satellite's position, velocity and delta-v ledger.
+#[inline]
+fn ledger_derivative(dp: &Vector3<f64>, dv: &Vector3<f64>, u_hill: &Vector3<f64>) -> [f64; SOLO] {
+    [
+        dp.x,
+        dp.y,
+        dp.z,
+        dv.x,
+        dv.y,
+        dv.z,
+        u_hill.x.abs(),
+        u_hill.y.abs(),
+        u_hill.z.abs(),
+        u_hill.norm(),
+    ]
+}
+
+/// Writes per-satellite blocks (position, velocity, ledger) into the component-major flat layout.
+pub(super) fn scatter(per_satellite: &[[f64; SOLO]], n: usize, flat: &mut [f64]) {
+    let body = &mut flat[satellite_index(n, 0, 0)..];
+    body.par_chunks_mut(n.max(1))
+        .take(SOLO)
+        .enumerate()
+        .for_each(|(k, component)| {
+            for (i, value) in component.iter_mut().enumerate() {
+                *value = per_satellite[i][k];
+            }
+        });
+}
+
+/// Reads per-satellite blocks out of the component-major flat layout.
+pub(super) fn gather(flat: &[f64], n: usize, per_satellite: &mut [[f64; SOLO]]) {
+    per_satellite
+        .par_iter_mut()
+        .with_min_len(CHUNK)
+        .enumerate()
+        .for_each(|(i, block)| {
+            for (k, value) in block.iter_mut().enumerate() {
+                *value = if k < SATELLITE_COMPONENTS {
+                    flat[satellite_index(n, k, i)]
+                } else {
+                    flat[ledger_index(n, k - SATELLITE_COMPONENTS, i)]
+                };
+            }
+        });
+}
+
+/// What sampled propagation needs: one stepper per chunk of satellites and the gathered blocks.
+pub(super) struct SampledBuffers {
+    pub steppers: Vec<Stepper>,
+    pub per_satellite: Vec<[f64; SOLO]>,
+}
+
+/// Propagates every live satellite alone from `t0_s` to `t1_s` under its held command: `held` in the
+/// dynamics frame (ECI for inertial truth, Hill for the linear and kinematic models), `held_hill` (the
+/// Hill command the delta-v ledger integrates, constant over the period; ignored by the kinematic
+/// model, whose ledger stays zero).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn advance_sampled(
+    dynamics: DynamicsModel,
+    earth: &crate::orbit::EarthModel,
+    active: &[bool],
+    held: &[Vector3<f64>],
+    held_hill: &[Vector3<f64>],
+    kinematic: bool,
+    buffers: &mut SampledBuffers,
+    data: &mut [f64],
+    n: usize,
+    t0_s: f64,
+    t1_s: f64,
+    max_step_s: f64,
+) -> Result<(), IntegrateError> {
+    gather(data, n, &mut buffers.per_satellite);
+    buffers
+        .per_satellite
+        .par_chunks_mut(CHUNK)
+        .zip(buffers.steppers.par_iter_mut())
+        .enumerate()
+        .try_for_each(|(c, (blocks, stepper))| -> Result<(), IntegrateError> {
+            for (offset, block) in blocks.iter_mut().enumerate() {
+                let i = c * CHUNK + offset;
+                if !active[i] {
+                    continue;
+                }
+                let control = held[i];
+                let u = if kinematic {
+                    Vector3::zeros()
+                } else {
+                    held_hill[i]
+                };
+                let hill = [u.x.abs(), u.y.abs(), u.z.abs(), u.norm()];
+                let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+                    let p = Vector3::new(y[0], y[1], y[2]);
+                    let v = Vector3::new(y[3], y[4], y[5]);
+                    let (dp, dv) = dynamics.satellite_derivative(earth, &p, &v, &control);
+                    dy[0..3].copy_from_slice(dp.as_slice());
+                    dy[3..6].copy_from_slice(dv.as_slice());
+                    dy[6..10].copy_from_slice(&hill);
+                };
+                stepper.advance(&rhs, t0_s, t1_s, block, max_step_s)?;
+            }
+            Ok(())
+        })?;
+    scatter(&buffers.per_satellite, n, data);
+    Ok(())
+}

@@ -1,0 +1,298 @@
+//! The run loop. Time advances in segments whose ends are the control ticks (or integration steps), the
+//! recording times, the event times, the end of the run and the time a caller asked for; every one of
+//! them is hit exactly. At a tick: the centralised step if due, new noise draws, the law-state update
+//! and (sampled mode) the held command; then the segment is integrated, the truth monitors run, due
+//! events apply and the recorder gets a snapshot if it is a recording time.
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use crate::orbit::LvlhFrame;
+use crate::random::{Purpose, RandomStream};
+use crate::swarm::dynamics::DynamicsModel;
+use crate::swarm::recorder::Recorder;
+use crate::swarm::simulation::propagation::{advance_sampled, CoupledSwarm};
+use crate::swarm::simulation::sensing::{Plant, CHUNK};
+use crate::swarm::simulation::{Integration, RunTotals, SimError, Simulation, SimulationConfig};
+use crate::swarm::state::satellite_index;
+
+impl Simulation {
+    /// Runs from the current time to the end of the run, recording at the cadence (and at t = 0 if not
+    /// yet recorded). `progress` is called with the simulated time after every segment. On divergence
+    /// the recorder has received every snapshot up to the last good one.
+    pub fn run(
+        &mut self,
+        recorder: &mut dyn Recorder,
+        progress: &mut dyn FnMut(f64),
+    ) -> Result<RunTotals, SimError> {
+        self.advance_with_progress(self.config.duration_s, recorder, progress)?;
+        Ok(self.totals.clone())
+    }
+
+    /// Advances to `time_s` (at most the end of the run) through the same scheduler as [`Simulation::run`]:
+    /// events, records and the end of the run happen exactly as in an uninterrupted run. The result is
+    /// bitwise identical to an uninterrupted run when every `time_s` asked for is a tick or recording
+    /// time (otherwise the extra segment end changes the integrator's steps, within its accuracy).
+    pub fn advance_to(&mut self, time_s: f64, recorder: &mut dyn Recorder) -> Result<(), SimError> {
+        self.advance_with_progress(time_s, recorder, &mut |_| {})
+    }
+
+    fn advance_with_progress(
+        &mut self,
+        time_s: f64,
+        recorder: &mut dyn Recorder,
+        progress: &mut dyn FnMut(f64),
+    ) -> Result<(), SimError> {
+        let base = self.config.base_step_s();
+        let record = self.config.record_interval_s;
+        let duration = self.config.duration_s;
+        let end = time_s.min(duration);
+        let eps = 1e-9 * base.max(1.0);
+        if !self.started {
+            self.started = true;
+            self.record(recorder)?;
+        }
+        while self.time_s < end - eps {
+            let next_step = ((self.step_count + 1) as f64 * base).min(duration);
+            let next_record = (self.record_count as f64 * record).min(duration);
+            let next_event = self.events.last().map_or(f64::INFINITY, |e| e.time_s);
+            let mut t1 = next_step.min(next_record).min(next_event.max(self.time_s));
+            if end < t1 - eps {
+                t1 = end;
+            }
+            let at_tick = (self.time_s - self.step_count as f64 * base).abs() <= eps;
+            let t0 = self.time_s;
+            if t1 > self.time_s + eps {
+                self.advance_segment(self.time_s, t1, at_tick)?;
+            }
+            self.time_s = t1;
+            if (t1 - next_step).abs() <= eps {
+                self.step_count += 1;
+            }
+            self.monitor(t0)?;
+            self.apply_due_events()?;
+            if (t1 - next_record).abs() <= eps {
+                self.record_count += 1;
+                self.record(recorder)?;
+            }
+            progress(self.time_s);
+        }
+        self.totals.time_s = self.time_s;
+        Ok(())
+    }
+
+    /// Advances by one base step (control period, or integration step in continuous mode) from the current
+    /// time, with the monitors and due events, but no recording. For callers that drive the loop
+    /// themselves (benchmarks).
+    pub fn step(&mut self) -> Result<(), SimError> {
+        let t0 = self.time_s;
+        let t1 = t0 + self.config.base_step_s();
+        self.advance_segment(t0, t1, true)?;
+        self.time_s = t1;
+        self.step_count += 1;
+        self.monitor(t0)?;
+        self.apply_due_events()
+    }
+
+    /// Advances the state from t0 to t1 (one segment). `at_tick`: t0 is a control tick.
+    fn advance_segment(&mut self, t0: f64, t1: f64, at_tick: bool) -> Result<(), SimError> {
+        if at_tick {
+            self.start_tick(t0)?;
+        }
+        self.truth_previous.copy_from_slice(&self.truth);
+        let n = self.state.n();
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            &self.threat_warnings,
+            self.reference_model,
+        );
+        let config = &self.config;
+        // Reference orbit, alone (in sampled mode; the coupled system carries it in continuous mode).
+        match &mut self.integration {
+            Integration::Coupled { stepper, scratch } => {
+                let system = CoupledSwarm {
+                    plant,
+                    law: &self.law,
+                    tick: self.tick - 1,
+                    navigation_noise: noise_if_any(config, &self.navigation_noise),
+                    process_noise_hill: &self.process_noise_hill,
+                    scratch,
+                };
+                stepper.advance(&system, t0, t1, self.state.as_mut_slice(), config.step_s)?;
+            }
+            Integration::Sampled(buffers) => {
+                let gravity = config.dynamics.reference_gravity();
+                let earth = config.earth;
+                let reference_rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+                    let a = gravity.acceleration_m_s2(&earth, &Vector3::new(y[0], y[1], y[2]));
+                    dy[0..3].copy_from_slice(&y[3..6]);
+                    dy[3..6].copy_from_slice(a.as_slice());
+                };
+                let data = self.state.as_mut_slice();
+                self.reference_stepper.advance(
+                    &reference_rhs,
+                    t0,
+                    t1,
+                    &mut data[0..6],
+                    config.step_s,
+                )?;
+                advance_sampled(
+                    config.dynamics,
+                    &config.earth,
+                    &self.fleet.active,
+                    &self.held_control,
+                    &self.applied_hill,
+                    matches!(config.dynamics, DynamicsModel::Kinematic),
+                    buffers,
+                    data,
+                    n,
+                    t0,
+                    t1,
+                    config.step_s,
+                )?;
+            }
+        }
+        if matches!(self.config.dynamics, DynamicsModel::Kinematic) {
+            self.set_kinematic_velocities(t1);
+        }
+        self.refresh_truth();
+        Ok(())
+    }
+
+    /// The start of a tick at `t0`: the centralised step if due, this tick's noise draws, the law-state
+    /// update on the navigation view, and in sampled mode the command held until the next tick.
+    fn start_tick(&mut self, t0: f64) -> Result<(), SimError> {
+        if self.law.centralised_due(t0) {
+            self.with_truth_view(|law, view| law.centralised_update(view))?;
+        }
+        let tick = self.tick;
+        self.tick += 1;
+        self.draw_noise(tick);
+        let live = self.fleet.active.iter().filter(|a| **a).count() as u64;
+        self.totals.satellite_steps += live;
+
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            &self.threat_warnings,
+            self.reference_model,
+        );
+        let sampled = plant.sampled();
+        let stateful = self.law.is_stateful();
+        if !(sampled || stateful) {
+            return Ok(());
+        }
+        let view = plant.view(
+            t0,
+            &self.truth,
+            noise_if_any(&self.config, &self.navigation_noise),
+            &mut self.sensed,
+        );
+        if stateful {
+            self.law
+                .update_states(&view, &self.fleet.active, &|i| plant.context(i, t0, tick));
+        }
+        if sampled {
+            plant.commands(&self.law, &view, tick, &mut self.applied_hill);
+            let frame = self
+                .config
+                .dynamics
+                .is_inertial()
+                .then(|| plant.frame(self.state.as_slice()));
+            self.hold_commands(frame);
+        }
+        Ok(())
+    }
+
+    /// Holds the tick's applied commands (plus process noise) in the dynamics frame until the next tick.
+    fn hold_commands(&mut self, frame: Option<LvlhFrame>) {
+        let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
+        for ((held, u), noise) in self
+            .held_control
+            .iter_mut()
+            .zip(&self.applied_hill)
+            .zip(&self.process_noise_hill)
+        {
+            let total = if kinematic { *u } else { u + noise };
+            *held = match &frame {
+                Some(f) => f.vector_hill_to_eci(&total),
+                None => total,
+            };
+        }
+    }
+
+    /// Kinematic model: each satellite's velocity state is its commanded velocity (held in sampled mode;
+    /// evaluated at the segment's end state in continuous mode).
+    fn set_kinematic_velocities(&mut self, t1: f64) {
+        let n = self.state.n();
+        if matches!(self.integration, Integration::Coupled { .. }) {
+            self.refresh_truth();
+            let plant = Plant::new(
+                &self.config,
+                &self.fleet,
+                &self.threat_warnings,
+                self.reference_model,
+            );
+            let view = plant.view(
+                t1,
+                &self.truth,
+                noise_if_any(&self.config, &self.navigation_noise),
+                &mut self.sensed,
+            );
+            plant.commands(&self.law, &view, self.tick - 1, &mut self.applied_hill);
+        }
+        let data = self.state.as_mut_slice();
+        for (i, v) in self.applied_hill.iter().enumerate() {
+            if self.fleet.active[i] {
+                for k in 0..3 {
+                    data[satellite_index(n, 3 + k, i)] = v[k];
+                }
+            }
+        }
+    }
+
+    /// Draws the navigation and process noise held during tick `tick`, from each satellite's own streams.
+    fn draw_noise(&mut self, tick: u64) {
+        let sensing = self.config.sensing;
+        let seed = self.config.seed;
+        if sensing.position_noise_m > 0.0 || sensing.velocity_noise_mps > 0.0 {
+            self.navigation_noise
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, e)| {
+                    let mut stream =
+                        RandomStream::new(seed, Purpose::NavigationNoise, i as u64, tick);
+                    for (k, value) in e.iter_mut().enumerate() {
+                        let sigma = if k < 3 {
+                            sensing.position_noise_m
+                        } else {
+                            sensing.velocity_noise_mps
+                        };
+                        *value = sigma * stream.standard_normal();
+                    }
+                });
+        }
+        let sigma = self.config.process_noise_m_s2;
+        if sigma > 0.0 {
+            self.process_noise_hill
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, a)| {
+                    let mut stream = RandomStream::new(seed, Purpose::ProcessNoise, i as u64, tick);
+                    *a = Vector3::from_fn(|_, _| sigma * stream.standard_normal());
+                });
+        }
+    }
+}
+
+/// The navigation noise of the tick, if the scenario has any.
+pub(super) fn noise_if_any<'a>(
+    config: &SimulationConfig,
+    navigation_noise: &'a [[f64; 6]],
+) -> Option<&'a [[f64; 6]]> {
+    let s = &config.sensing;
+    (s.position_noise_m > 0.0 || s.velocity_noise_mps > 0.0).then_some(navigation_noise)
+}

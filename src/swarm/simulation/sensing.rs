@@ -1,0 +1,238 @@
+//! Sensing and law evaluation: the truth relative states of every satellite, the navigation states the
+//! satellites believe (truth plus navigation noise), the sensing grid over them, the views a law gets,
+//! and the evaluation of every satellite's command through its actuator.
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use crate::grid::NeighbourGrid;
+use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
+use crate::relative::SchweighartSedwick;
+use crate::swarm::actuator::Actuator;
+use crate::swarm::dynamics::DynamicsModel;
+use crate::swarm::law::{EnvironmentView, Law, LawContext, SharedInfo, SwarmView};
+use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
+use crate::swarm::state::{reference_of, satellite_of};
+
+/// Satellites per parallel work item. Fixed, so that the split of work never depends on the thread count.
+pub(super) const CHUNK: usize = 256;
+
+/// Per-satellite properties that change only through events, as structure-of-arrays.
+pub(super) struct Fleet {
+    pub masses_kg: Vec<f64>,
+    pub radii_m: Vec<f64>,
+    pub actuators: Vec<Actuator>,
+    /// `false` once a satellite is removed.
+    pub active: Vec<bool>,
+    /// `false` while a satellite's links are cut.
+    pub links_up: Vec<bool>,
+}
+
+/// The navigation view of the swarm at one evaluation: navigation states (truth plus the noise held over
+/// the step), their positions component-wise, and the sensing grid over them. Allocated once.
+pub(super) struct Sensed {
+    pub navigation: Vec<RelativeStateHill>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    pub grid: NeighbourGrid,
+}
+
+impl Sensed {
+    pub fn new(n: usize) -> Self {
+        Self {
+            navigation: vec![RelativeStateHill::default(); n],
+            x: vec![0.0; n],
+            y: vec![0.0; n],
+            z: vec![0.0; n],
+            grid: NeighbourGrid::new(),
+        }
+    }
+}
+
+/// What the views and the right-hand side read besides the state and the law.
+pub(super) struct Plant<'a> {
+    pub config: &'a SimulationConfig,
+    pub fleet: &'a Fleet,
+    threat_warnings: &'a [bool],
+    reference_model: SchweighartSedwick,
+}
+
+impl<'a> Plant<'a> {
+    pub fn new(
+        config: &'a SimulationConfig,
+        fleet: &'a Fleet,
+        threat_warnings: &'a [bool],
+        reference_model: SchweighartSedwick,
+    ) -> Self {
+        Self {
+            config,
+            fleet,
+            threat_warnings,
+            reference_model,
+        }
+    }
+
+    pub fn n(&self) -> usize {
+        self.fleet.masses_kg.len()
+    }
+
+    /// The LVLH frame of the origin for a flat state (inertial models only).
+    pub fn frame(&self, data: &[f64]) -> LvlhFrame {
+        let n = self.n();
+        let (position_m, velocity_mps) = match self.config.origin {
+            Origin::VirtualReference => reference_of(data),
+            Origin::Member(k) => satellite_of(data, n, k),
+        };
+        let origin = CartesianState::new(position_m, velocity_mps);
+        let gravity = self.config.dynamics.reference_gravity();
+        let accel = gravity.acceleration_m_s2(&self.config.earth, &origin.position_m);
+        LvlhFrame::from_reference_with_acceleration(&origin, &accel)
+    }
+
+    /// Fills `relative` with every satellite's truth state relative to the origin (Hill). Returns the
+    /// LVLH frame used (inertial models only).
+    pub fn truth_relative(
+        &self,
+        data: &[f64],
+        relative: &mut [RelativeStateHill],
+    ) -> Option<LvlhFrame> {
+        let n = self.n();
+        if self.config.dynamics.is_inertial() {
+            let frame = self.frame(data);
+            relative
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, rel)| {
+                    let (p, v) = satellite_of(data, n, i);
+                    *rel = frame.to_hill(&CartesianState::new(p, v));
+                });
+            Some(frame)
+        } else {
+            let (op, ov) = match self.config.origin {
+                Origin::VirtualReference => (Vector3::zeros(), Vector3::zeros()),
+                Origin::Member(k) => satellite_of(data, n, k),
+            };
+            relative
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, rel)| {
+                    let (p, v) = satellite_of(data, n, i);
+                    *rel = RelativeStateHill {
+                        position_m: p - op,
+                        velocity_mps: v - ov,
+                    };
+                });
+            None
+        }
+    }
+
+    /// The swarm-level information at `time_s`.
+    fn shared(&self, time_s: f64) -> SharedInfo {
+        SharedInfo {
+            time_s,
+            mean_motion_rad_s: self.config.mean_motion_rad_s,
+            sensing_range_m: self.config.sensing.range_m,
+            reference_model: self.reference_model,
+        }
+    }
+
+    /// A whole-swarm view over `sensed.navigation` as it stands (truth plus `noise` when given), with the
+    /// sensing grid rebuilt over those positions.
+    pub fn view<'s>(
+        &'s self,
+        time_s: f64,
+        truth: &[RelativeStateHill],
+        noise: Option<&[[f64; 6]]>,
+        sensed: &'s mut Sensed,
+    ) -> SwarmView<'s> {
+        let Sensed {
+            navigation,
+            x,
+            y,
+            z,
+            grid,
+        } = sensed;
+        match noise {
+            Some(noise) => navigation
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .zip(truth.par_iter().zip(noise.par_iter()))
+                .for_each(|(nav, (rel, e))| {
+                    nav.position_m = rel.position_m + Vector3::new(e[0], e[1], e[2]);
+                    nav.velocity_mps = rel.velocity_mps + Vector3::new(e[3], e[4], e[5]);
+                }),
+            None => navigation.copy_from_slice(truth),
+        }
+        for (i, rel) in navigation.iter().enumerate() {
+            x[i] = rel.position_m.x;
+            y[i] = rel.position_m.y;
+            z[i] = rel.position_m.z;
+        }
+        // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
+        // the divergence check after the segment then stops the run and names the satellite.
+        let _ = grid.build(x, y, z, self.config.sensing.range_m);
+        SwarmView {
+            relative_states: navigation,
+            masses_kg: &self.fleet.masses_kg,
+            active: &self.fleet.active,
+            links_up: &self.fleet.links_up,
+            grid,
+            shared: self.shared(time_s),
+            environment: EnvironmentView {
+                threats: &self.config.threats,
+                obstacles: &self.config.obstacles,
+                threat_warnings: self.threat_warnings,
+            },
+        }
+    }
+
+    /// The law context of satellite `i` at tick `tick` (time `time_s`).
+    pub fn context(&self, i: usize, time_s: f64, tick: u64) -> LawContext {
+        LawContext::new(
+            time_s,
+            tick,
+            self.config.base_step_s(),
+            self.fleet.actuators[i],
+            i,
+            self.config.seed,
+        )
+    }
+
+    /// Evaluates the law for every live satellite of `view` and writes the applied command (Hill frame)
+    /// into `applied_hill`: an acceleration through the satellite's actuator, or a velocity as commanded
+    /// (kinematic model). Removed satellites get zero.
+    pub fn commands(
+        &self,
+        law: &Law,
+        view: &SwarmView<'_>,
+        tick: u64,
+        applied_hill: &mut [Vector3<f64>],
+    ) {
+        let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
+        let time_s = view.shared.time_s;
+        applied_hill
+            .par_iter_mut()
+            .with_min_len(CHUNK)
+            .enumerate()
+            .for_each(|(i, applied)| {
+                *applied = if self.fleet.active[i] {
+                    let command = law.command(view, i, &self.context(i, time_s, tick));
+                    if kinematic {
+                        command
+                    } else {
+                        self.fleet.actuators[i].apply(&command)
+                    }
+                } else {
+                    Vector3::zeros()
+                };
+            });
+    }
+
+    /// Whether commands are held between ticks (sampled mode).
+    pub fn sampled(&self) -> bool {
+        matches!(self.config.control, ControlTiming::Sampled { .. })
+    }
+}

@@ -1,0 +1,122 @@
+//! What a recorder receives at every recording time: the truth states (Hill and ECI), delta-v ledgers,
+//! the five elements, separation and collisions, the law's metrics and per-satellite outputs, and the
+//! threat and obstacle monitors so far.
+
+use crate::metrics::five_elements;
+use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
+use crate::swarm::recorder::{EnvironmentSnapshot, Recorder, Snapshot};
+use crate::swarm::simulation::monitors::live_separation;
+use crate::swarm::simulation::sensing::Plant;
+use crate::swarm::simulation::{SimError, Simulation, SimulationConfig};
+use crate::swarm::state::{reference_of, satellite_of, SwarmState};
+
+/// Every satellite's inertial state (ECI) from the flat state: the state itself for the inertial models,
+/// the Hill state mapped through the reference orbit's frame for the linear and kinematic models.
+pub(super) fn inertial_states(
+    config: &SimulationConfig,
+    state: &SwarmState,
+) -> Vec<CartesianState> {
+    let n = state.n();
+    let data = state.as_slice();
+    let reference_frame = (!config.dynamics.is_inertial()).then(|| {
+        let (p, v) = reference_of(data);
+        LvlhFrame::from_reference(&CartesianState::new(p, v))
+    });
+    (0..n)
+        .map(|i| {
+            let (p, v) = satellite_of(data, n, i);
+            match &reference_frame {
+                None => CartesianState::new(p, v),
+                Some(f) => f.from_hill(&RelativeStateHill {
+                    position_m: p,
+                    velocity_mps: v,
+                }),
+            }
+        })
+        .collect()
+}
+
+impl Simulation {
+    /// Builds the snapshot of now and hands it to the recorder.
+    pub(super) fn record(&mut self, recorder: &mut dyn Recorder) -> Result<(), SimError> {
+        let n = self.state.n();
+        let inertial = inertial_states(&self.config, &self.state);
+        let ledgers: Vec<([f64; 3], f64)> = (0..n).map(|i| self.state.ledger(i)).collect();
+        let axes: Vec<[f64; 3]> = ledgers.iter().map(|l| l.0).collect();
+        let norms: Vec<f64> = ledgers.iter().map(|l| l.1).collect();
+        let live: Vec<usize> = (0..n).filter(|&i| self.fleet.active[i]).collect();
+        let elements = if live.len() >= 2 {
+            let positions: Vec<[f64; 3]> = live
+                .iter()
+                .map(|&i| inertial[i].position_m.into())
+                .collect();
+            let velocities: Vec<[f64; 3]> = live
+                .iter()
+                .map(|&i| inertial[i].velocity_mps.into())
+                .collect();
+            let radii: Vec<f64> = live.iter().map(|&i| self.fleet.radii_m[i]).collect();
+            five_elements(
+                &positions,
+                &velocities,
+                Some(&radii),
+                &mut self.live.workspace,
+            )
+            .ok()
+        } else {
+            None
+        };
+        let (min_separation_m, collisions) = live_separation(
+            &self.truth,
+            &self.fleet.active,
+            &self.fleet.radii_m,
+            &mut self.live,
+        );
+        self.totals.final_five_elements = elements;
+        let law_metric_names = self.law.metric_names();
+        let mut law_metrics = vec![0.0; law_metric_names.len()];
+        if !law_metrics.is_empty() {
+            let plant = Plant::new(
+                &self.config,
+                &self.fleet,
+                &self.threat_warnings,
+                self.reference_model,
+            );
+            let view = plant.view(self.time_s, &self.truth, None, &mut self.sensed);
+            self.law.record_metrics(&view, &mut law_metrics);
+        }
+        let law_output_names = self.law.output_names();
+        let law_outputs = self.law_outputs();
+        let environment = EnvironmentSnapshot {
+            threats: self.config.threats.len(),
+            obstacles: self.config.obstacles.len(),
+            min_threat_distance_m: self
+                .approach
+                .swarm_threat_minimum()
+                .map(|m| m.minimum.distance_m),
+            min_obstacle_clearance_m: self
+                .approach
+                .swarm_obstacle_minimum()
+                .map(|m| m.minimum.clearance_m),
+            threat_incursions: self.approach.total_threat_incursions(),
+            obstacle_incursions: self.approach.total_obstacle_incursions(),
+        };
+        let snapshot = Snapshot {
+            time_s: self.time_s,
+            relative_states: &self.truth,
+            inertial_states: &inertial,
+            active: &self.fleet.active,
+            delta_v_axes_mps: &axes,
+            delta_v_mps: &norms,
+            five_elements: elements,
+            min_separation_m,
+            collisions,
+            law_metric_names,
+            law_metrics: &law_metrics,
+            law_output_names,
+            law_outputs: &law_outputs,
+            environment,
+        };
+        recorder.record(&snapshot)?;
+        Ok(())
+    }
+}

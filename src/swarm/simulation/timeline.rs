@@ -1,0 +1,67 @@
+//! Applying the events of the timeline that fall due: law parameters and switches, ground messages,
+//! link outages, satellite losses and thruster failures.
+
+use crate::swarm::events::{EventAction, ThrustAxis};
+use crate::swarm::simulation::{check_law_fits, SimError, Simulation};
+
+impl Simulation {
+    /// Applies every pending event whose time has come (in time order, file order for equal times).
+    pub(super) fn apply_due_events(&mut self) -> Result<(), SimError> {
+        let eps = 1e-9 * self.config.base_step_s().max(1.0);
+        while self
+            .events
+            .last()
+            .is_some_and(|e| e.time_s <= self.time_s + eps)
+        {
+            let event = self.events.pop().expect("checked non-empty");
+            match event.action {
+                EventAction::SetLawParameters(parameters) => {
+                    self.law.set_parameters(&parameters)?;
+                    check_law_fits(&self.law, &self.config, self.min_mass_kg())?;
+                }
+                EventAction::SwitchLaw(law) => {
+                    check_law_fits(&law, &self.config, self.min_mass_kg())?;
+                    self.law = law;
+                    self.initialise_law()?;
+                }
+                EventAction::ThreatWarning { threat, active } => {
+                    self.threat_warnings[threat] = active;
+                }
+                EventAction::CutLinks(selection) => {
+                    for (i, up) in self.fleet.links_up.iter_mut().enumerate() {
+                        if selection.contains(i) {
+                            *up = false;
+                        }
+                    }
+                }
+                EventAction::RestoreLinks(selection) => {
+                    for (i, up) in self.fleet.links_up.iter_mut().enumerate() {
+                        if selection.contains(i) {
+                            *up = true;
+                        }
+                    }
+                }
+                EventAction::RemoveSatellite(i) => self.fleet.active[i] = false,
+                EventAction::FailThruster { satellite, axis } => {
+                    let axes = &mut self.fleet.actuators[satellite].working_axes;
+                    match axis {
+                        ThrustAxis::X => axes[0] = false,
+                        ThrustAxis::Y => axes[1] = false,
+                        ThrustAxis::Z => axes[2] = false,
+                        ThrustAxis::All => *axes = [false; 3],
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Mass of the lightest satellite \[kg\] (the one with the fastest closed-loop rate).
+    fn min_mass_kg(&self) -> f64 {
+        self.fleet
+            .masses_kg
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
+}
