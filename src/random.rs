@@ -90,18 +90,22 @@ pub enum Purpose {
     NavigationNoise,
     /// Process noise (unmodelled accelerations) in the truth dynamics, per satellite and step.
     ProcessNoise,
-    /// Draws made by a guidance law itself (e.g. random tie-breaking or exploration), per satellite and
-    /// control tick.
-    Law,
+    /// Draws made by a guidance law's per-satellite state update (e.g. a random switch or exploration),
+    /// per satellite and control tick.
+    LawUpdate,
+    /// Draws made by a guidance law's command, per satellite and control tick (independent of the
+    /// update's).
+    LawCommand,
 }
 
 impl Purpose {
     /// Every purpose, in declaration order.
-    pub const ALL: [Purpose; 4] = [
+    pub const ALL: [Purpose; 5] = [
         Purpose::InitialStates,
         Purpose::NavigationNoise,
         Purpose::ProcessNoise,
-        Purpose::Law,
+        Purpose::LawUpdate,
+        Purpose::LawCommand,
     ];
 
     /// The purpose's fixed 64-bit tag (eight ASCII characters, big-endian), mixed into the ChaCha key.
@@ -110,7 +114,8 @@ impl Purpose {
             Purpose::InitialStates => u64::from_be_bytes(*b"initials"),
             Purpose::NavigationNoise => u64::from_be_bytes(*b"nav_nois"),
             Purpose::ProcessNoise => u64::from_be_bytes(*b"procnois"),
-            Purpose::Law => u64::from_be_bytes(*b"law_draw"),
+            Purpose::LawUpdate => u64::from_be_bytes(*b"law_draw"),
+            Purpose::LawCommand => u64::from_be_bytes(*b"law_cmnd"),
         }
     }
 }
@@ -311,8 +316,8 @@ mod tests {
     #[test]
     fn val_stream_starts_at_its_tick_block() {
         // Tick t of a stream is the keystream of the same key and stream id from word t × 2^20.
-        let mut a = RandomStream::new(5, Purpose::Law, 3, 2);
-        let mut b = ChaCha8Rng::from_seed(chacha_key(5, Purpose::Law));
+        let mut a = RandomStream::new(5, Purpose::LawUpdate, 3, 2);
+        let mut b = ChaCha8Rng::from_seed(chacha_key(5, Purpose::LawUpdate));
         b.set_stream(3);
         b.set_word_pos(2 * u128::from(WORDS_PER_TICK));
         for _ in 0..100 {
@@ -342,6 +347,6 @@ mod tests {
     #[test]
     #[should_panic(expected = "limit")]
     fn val_tick_beyond_limit_panics() {
-        let _ = RandomStream::new(1, Purpose::Law, 0, TICK_LIMIT);
+        let _ = RandomStream::new(1, Purpose::LawUpdate, 0, TICK_LIMIT);
     }
 }

@@ -69,7 +69,7 @@ fn val_streams_identical_on_1_and_4_threads() {
                         (Purpose::InitialStates, 0),
                         (Purpose::NavigationNoise, 17),
                         (Purpose::ProcessNoise, 1_000_003),
-                        (Purpose::Law, 5),
+                        (Purpose::LawUpdate, 5),
                     ] {
                         let mut s = RandomStream::new(42, purpose, i, tick);
                         out.push(s.next_u64());
@@ -195,7 +195,7 @@ fn val_standard_normal_moments() {
     for (seed, purpose, satellite, tick) in [
         (1u64, Purpose::NavigationNoise, 0u64, 0u64),
         (2, Purpose::ProcessNoise, 999, 123_456),
-        (3, Purpose::Law, 5, 1),
+        (3, Purpose::LawUpdate, 5, 1),
     ] {
         let x = normals(seed, purpose, satellite, tick);
         let n = x.len() as f64;
@@ -248,7 +248,7 @@ fn val_uniform_chi_square_20_bins() {
 #[test]
 fn val_uniform_range() {
     let (lo, hi) = (-3.0, 5.0);
-    let mut s = RandomStream::new(9, Purpose::Law, 1, 2);
+    let mut s = RandomStream::new(9, Purpose::LawUpdate, 1, 2);
     let x: Vec<f64> = (0..N).map(|_| s.uniform_range(lo, hi)).collect();
     assert!(x.iter().all(|v| (lo..=hi).contains(v)));
     let mean = x.iter().sum::<f64>() / N as f64;

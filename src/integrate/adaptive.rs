@@ -118,6 +118,17 @@ impl<T: ButcherTableau> AdaptiveStepper<T> {
         self.step_guess_s = Some(step_s);
     }
 
+    /// Replaces the step size kept from the previous call: `Some(h)` as [`AdaptiveStepper::set_initial_step_s`],
+    /// `None` to estimate a starting step afresh. Lets one stepper integrate several independent systems
+    /// (each with its own remembered step) without one's step size leaking into the next.
+    pub fn set_step_guess_s(&mut self, step_s: Option<f64>) {
+        if let Some(h) = step_s {
+            self.set_initial_step_s(h);
+        } else {
+            self.step_guess_s = None;
+        }
+    }
+
     /// Sets the limit on step attempts (accepted plus rejected) per call to
     /// [`AdaptiveStepper::integrate`]; the default is 1 000 000.
     pub fn set_max_steps(&mut self, max_steps: usize) {

@@ -39,6 +39,24 @@ impl Stepper {
         }
     }
 
+    /// The step the adaptive methods will try first (None for RK4 or before the first call).
+    pub fn step_guess_s(&self) -> Option<f64> {
+        match self {
+            Stepper::Rk4(_) => None,
+            Stepper::Rk78(ad) => ad.next_step_s(),
+            Stepper::Dop853(ad) => ad.next_step_s(),
+        }
+    }
+
+    /// Replaces the step the adaptive methods will try first (`None`: estimate afresh); no effect on RK4.
+    pub fn set_step_guess_s(&mut self, step_s: Option<f64>) {
+        match self {
+            Stepper::Rk4(_) => {}
+            Stepper::Rk78(ad) => ad.set_step_guess_s(step_s),
+            Stepper::Dop853(ad) => ad.set_step_guess_s(step_s),
+        }
+    }
+
     /// Integrates `state` from `t0_s` to `t1_s` exactly (RK4 in steps of at most `max_step_s`, the last
     /// one shortened; the adaptive methods under their tolerances).
     pub fn advance<S: OdeSystem + ?Sized>(

@@ -17,6 +17,7 @@ pub struct LawContext {
     pub actuator: Actuator,
     satellite: usize,
     seed: u64,
+    purpose: Purpose,
 }
 
 impl LawContext {
@@ -38,14 +39,24 @@ impl LawContext {
             actuator,
             satellite,
             seed,
+            purpose: Purpose::LawUpdate,
         }
     }
 
-    /// This satellite's random stream for this tick, derived from (scenario seed, law purpose, satellite,
+    /// The same context for the command, whose random stream is independent of the state update's.
+    pub(crate) fn for_command(self) -> Self {
+        Self {
+            purpose: Purpose::LawCommand,
+            ..self
+        }
+    }
+
+    /// This satellite's random stream for this tick, derived from (scenario seed, purpose, satellite,
     /// tick): the same draws on any thread count and in every call during the tick (take it once and
-    /// draw from it; a second call starts the same sequence again).
+    /// draw from it; a second call starts the same sequence again). The state update and the command
+    /// get independent streams; the command's is the same at every Runge–Kutta stage of a step.
     pub fn random(&self) -> RandomStream {
-        RandomStream::new(self.seed, Purpose::Law, self.satellite as u64, self.tick)
+        RandomStream::new(self.seed, self.purpose, self.satellite as u64, self.tick)
     }
 
     /// The satellite's acceleration limit \[m/s^2\] (`f64::INFINITY` when unlimited).

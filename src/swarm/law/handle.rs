@@ -11,7 +11,8 @@ use rayon::prelude::*;
 
 use super::{Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SwarmView};
 
-/// Satellites per parallel work item: fixed, so the split of work never depends on the thread count.
+/// Smallest number of satellites per parallel work item (results never depend on the split: each
+/// satellite's new state is computed on its own).
 const CHUNK: usize = 256;
 
 /// A typed parameter set for a law, carried by a `set-law-parameters` event. The law it reaches checks

@@ -60,8 +60,11 @@ pub struct SensedObstacle {
     pub distance_m: f64,
 }
 
-/// What satellite `i` knows of a neighbour `j` within sensing range.
+/// What satellite `i` knows of a neighbour `j` within sensing range. Only the engine makes these
+/// (`non_exhaustive`): a law reads a neighbour's broadcast through a `Neighbour` its view gave it, so it
+/// cannot forge one for a satellite out of reach.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Neighbour {
     /// The neighbour's index.
     pub id: usize,
@@ -231,6 +234,27 @@ impl SatelliteView<'_> {
             .get(threat)
             .copied()
             .unwrap_or(false)
+    }
+
+    /// The ground's track of threat `threat` while a warning about it is in force: the warning message
+    /// carries the threat's state (position and velocity now, danger radius), whatever the satellite's
+    /// own sensors see. `None` without a warning.
+    pub fn warned_threat(&self, threat: usize) -> Option<SensedThreat> {
+        if !self.threat_warning(threat) {
+            return None;
+        }
+        let s = &self.swarm;
+        let t = s.environment.threats.get(threat)?;
+        let position = t.position_hill_m(s.shared.time_s);
+        let offset_m = position - s.relative_states[self.id].position_m;
+        Some(SensedThreat {
+            id: threat,
+            position_hill_m: position,
+            velocity_hill_mps: t.velocity_hill_mps(),
+            offset_m,
+            distance_m: offset_m.norm(),
+            danger_radius_m: t.danger_radius_m(),
+        })
     }
 
     /// Whether any ground threat warning is in force.

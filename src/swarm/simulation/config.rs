@@ -227,6 +227,17 @@ pub enum SimError {
         /// The dynamics model.
         dynamics: &'static str,
     },
+    /// Process noise that cannot apply: negative or non-finite, or on the kinematic model (no forces).
+    #[error(
+        "process noise {sigma_m_s2} m/s^2 cannot apply to the `{dynamics}` dynamics (allowed: finite, \
+         >= 0, and 0 on the kinematic model)"
+    )]
+    ProcessNoise {
+        /// The standard deviation given \[m/s^2\].
+        sigma_m_s2: f64,
+        /// The dynamics model.
+        dynamics: &'static str,
+    },
     /// A satellite's state became non-finite or left the allowed distance from the LVLH origin.
     #[error("satellite {satellite} diverged at t = {time_s} s: {reason}")]
     Diverged {
@@ -262,6 +273,7 @@ impl SimError {
                 | SimError::ControlPeriodTooLong { .. }
                 | SimError::StepTooLong { .. }
                 | SimError::CommandKindMismatch { .. }
+                | SimError::ProcessNoise { .. }
         )
     }
 }

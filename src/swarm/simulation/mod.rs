@@ -135,6 +135,15 @@ impl Simulation {
             }
         }
         check_events(&events, &config, n)?;
+        if config.process_noise_m_s2 != 0.0
+            && (matches!(config.dynamics, DynamicsModel::Kinematic)
+                || !(config.process_noise_m_s2 > 0.0 && config.process_noise_m_s2.is_finite()))
+        {
+            return Err(SimError::ProcessNoise {
+                sigma_m_s2: config.process_noise_m_s2,
+                dynamics: config.dynamics.name(),
+            });
+        }
         // Stable sort keeps the file order of simultaneous events; reversed so that pop() is the next.
         events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
         events.reverse();
@@ -178,6 +187,7 @@ impl Simulation {
                     })
                     .collect(),
                 per_satellite: vec![[0.0; SOLO]; n],
+                step_guesses_s: vec![None; n],
             }),
         };
         let fleet = Fleet {

@@ -154,10 +154,13 @@ pub(super) fn gather(flat: &[f64], n: usize, per_satellite: &mut [[f64; SOLO]]) 
         });
 }
 
-/// What sampled propagation needs: one stepper per chunk of satellites and the gathered blocks.
+/// What sampled propagation needs: one stepper per chunk of satellites, the gathered blocks, and each
+/// satellite's own remembered step size (adaptive methods), so that satellites sharing a stepper stay
+/// independent of each other.
 pub(super) struct SampledBuffers {
     pub steppers: Vec<Stepper>,
     pub per_satellite: Vec<[f64; SOLO]>,
+    pub step_guesses_s: Vec<Option<f64>>,
 }
 
 /// Propagates every live satellite alone from `t0_s` to `t1_s` under its held command: `held` in the
@@ -183,33 +186,40 @@ pub(super) fn advance_sampled(
     buffers
         .per_satellite
         .par_chunks_mut(CHUNK)
+        .zip(buffers.step_guesses_s.par_chunks_mut(CHUNK))
         .zip(buffers.steppers.par_iter_mut())
         .enumerate()
-        .try_for_each(|(c, (blocks, stepper))| -> Result<(), IntegrateError> {
-            for (offset, block) in blocks.iter_mut().enumerate() {
-                let i = c * CHUNK + offset;
-                if !active[i] {
-                    continue;
+        .try_for_each(
+            |(c, ((blocks, guesses), stepper))| -> Result<(), IntegrateError> {
+                for (offset, (block, guess)) in
+                    blocks.iter_mut().zip(guesses.iter_mut()).enumerate()
+                {
+                    let i = c * CHUNK + offset;
+                    if !active[i] {
+                        continue;
+                    }
+                    let control = held[i];
+                    let u = if kinematic {
+                        Vector3::zeros()
+                    } else {
+                        held_hill[i]
+                    };
+                    let hill = [u.x.abs(), u.y.abs(), u.z.abs(), u.norm()];
+                    let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+                        let p = Vector3::new(y[0], y[1], y[2]);
+                        let v = Vector3::new(y[3], y[4], y[5]);
+                        let (dp, dv) = dynamics.satellite_derivative(earth, &p, &v, &control);
+                        dy[0..3].copy_from_slice(dp.as_slice());
+                        dy[3..6].copy_from_slice(dv.as_slice());
+                        dy[6..10].copy_from_slice(&hill);
+                    };
+                    stepper.set_step_guess_s(*guess);
+                    stepper.advance(&rhs, t0_s, t1_s, block, max_step_s)?;
+                    *guess = stepper.step_guess_s();
                 }
-                let control = held[i];
-                let u = if kinematic {
-                    Vector3::zeros()
-                } else {
-                    held_hill[i]
-                };
-                let hill = [u.x.abs(), u.y.abs(), u.z.abs(), u.norm()];
-                let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
-                    let p = Vector3::new(y[0], y[1], y[2]);
-                    let v = Vector3::new(y[3], y[4], y[5]);
-                    let (dp, dv) = dynamics.satellite_derivative(earth, &p, &v, &control);
-                    dy[0..3].copy_from_slice(dp.as_slice());
-                    dy[3..6].copy_from_slice(dv.as_slice());
-                    dy[6..10].copy_from_slice(&hill);
-                };
-                stepper.advance(&rhs, t0_s, t1_s, block, max_step_s)?;
-            }
-            Ok(())
-        })?;
+                Ok(())
+            },
+        )?;
     scatter(&buffers.per_satellite, n, data);
     Ok(())
 }

@@ -25,7 +25,7 @@ impl Simulation {
         recorder: &mut dyn Recorder,
         progress: &mut dyn FnMut(f64),
     ) -> Result<RunTotals, SimError> {
-        self.advance_with_progress(self.config.duration_s, recorder, progress)?;
+        self.advance_with_progress(self.config.duration_s, Some(recorder), progress)?;
         Ok(self.totals.clone())
     }
 
@@ -34,13 +34,15 @@ impl Simulation {
     /// bitwise identical to an uninterrupted run when every `time_s` asked for is a tick or recording
     /// time (otherwise the extra segment end changes the integrator's steps, within its accuracy).
     pub fn advance_to(&mut self, time_s: f64, recorder: &mut dyn Recorder) -> Result<(), SimError> {
-        self.advance_with_progress(time_s, recorder, &mut |_| {})
+        self.advance_with_progress(time_s, Some(recorder), &mut |_| {})
     }
 
+    /// The scheduler. Without a recorder, recording times are passed (and counted) but no snapshot is
+    /// built.
     fn advance_with_progress(
         &mut self,
         time_s: f64,
-        recorder: &mut dyn Recorder,
+        mut recorder: Option<&mut dyn Recorder>,
         progress: &mut dyn FnMut(f64),
     ) -> Result<(), SimError> {
         let base = self.config.base_step_s();
@@ -50,7 +52,9 @@ impl Simulation {
         let eps = 1e-9 * base.max(1.0);
         if !self.started {
             self.started = true;
-            self.record(recorder)?;
+            if let Some(recorder) = recorder.as_deref_mut() {
+                self.record(recorder)?;
+            }
         }
         while self.time_s < end - eps {
             let next_step = ((self.step_count + 1) as f64 * base).min(duration);
@@ -73,7 +77,9 @@ impl Simulation {
             self.apply_due_events()?;
             if (t1 - next_record).abs() <= eps {
                 self.record_count += 1;
-                self.record(recorder)?;
+                if let Some(recorder) = recorder.as_deref_mut() {
+                    self.record(recorder)?;
+                }
             }
             progress(self.time_s);
         }
@@ -81,17 +87,13 @@ impl Simulation {
         Ok(())
     }
 
-    /// Advances by one base step (control period, or integration step in continuous mode) from the current
-    /// time, with the monitors and due events, but no recording. For callers that drive the loop
-    /// themselves (benchmarks).
+    /// Advances to the next tick (control period, or integration step in continuous mode; at most the
+    /// end of the run) through the same scheduler as [`Simulation::run`], with the monitors and due
+    /// events, but no recording. For callers that drive the loop themselves (benchmarks); it mixes
+    /// freely with [`Simulation::advance_to`] and [`Simulation::run`].
     pub fn step(&mut self) -> Result<(), SimError> {
-        let t0 = self.time_s;
-        let t1 = t0 + self.config.base_step_s();
-        self.advance_segment(t0, t1, true)?;
-        self.time_s = t1;
-        self.step_count += 1;
-        self.monitor(t0)?;
-        self.apply_due_events()
+        let next_tick = (self.step_count + 1) as f64 * self.config.base_step_s();
+        self.advance_with_progress(next_tick, None, &mut |_| {})
     }
 
     /// Advances the state from t0 to t1 (one segment). `at_tick`: t0 is a control tick.
@@ -180,7 +182,8 @@ impl Simulation {
         );
         let sampled = plant.sampled();
         let stateful = self.law.is_stateful();
-        if !(sampled || stateful) {
+        let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
+        if !(sampled || stateful || kinematic) {
             return Ok(());
         }
         let view = plant.view(
@@ -190,10 +193,11 @@ impl Simulation {
             &mut self.sensed,
         );
         if stateful {
-            self.law
-                .update_states(&view, &self.fleet.active, &|i| plant.context(i, t0, tick));
+            self.law.update_states(&view, &self.fleet.active, &|i| {
+                plant.context(i, t0, tick, false)
+            });
         }
-        if sampled {
+        if sampled || kinematic {
             plant.commands(&self.law, &view, tick, &mut self.applied_hill);
             let frame = self
                 .config
@@ -201,6 +205,12 @@ impl Simulation {
                 .is_inertial()
                 .then(|| plant.frame(self.state.as_slice()));
             self.hold_commands(frame);
+        }
+        if kinematic {
+            // The velocity state is the command from the start of the segment, so the monitors'
+            // Hermite path over the segment starts with the velocity actually followed.
+            self.set_velocities_to_commands();
+            self.refresh_truth();
         }
         Ok(())
     }
@@ -222,26 +232,33 @@ impl Simulation {
         }
     }
 
-    /// Kinematic model: each satellite's velocity state is its commanded velocity (held in sampled mode;
-    /// evaluated at the segment's end state in continuous mode).
+    /// Kinematic model, continuous mode: after a segment each satellite's velocity state is the command
+    /// evaluated at its end state (in sampled mode the held command, set at the tick, stays).
     fn set_kinematic_velocities(&mut self, t1: f64) {
-        let n = self.state.n();
-        if matches!(self.integration, Integration::Coupled { .. }) {
-            self.refresh_truth();
-            let plant = Plant::new(
-                &self.config,
-                &self.fleet,
-                &self.threat_warnings,
-                self.reference_model,
-            );
-            let view = plant.view(
-                t1,
-                &self.truth,
-                noise_if_any(&self.config, &self.navigation_noise),
-                &mut self.sensed,
-            );
-            plant.commands(&self.law, &view, self.tick - 1, &mut self.applied_hill);
+        if matches!(self.integration, Integration::Sampled(_)) {
+            return;
         }
+        self.refresh_truth();
+        let plant = Plant::new(
+            &self.config,
+            &self.fleet,
+            &self.threat_warnings,
+            self.reference_model,
+        );
+        let view = plant.view(
+            t1,
+            &self.truth,
+            noise_if_any(&self.config, &self.navigation_noise),
+            &mut self.sensed,
+        );
+        plant.commands(&self.law, &view, self.tick - 1, &mut self.applied_hill);
+        self.set_velocities_to_commands();
+    }
+
+    /// Kinematic model: writes the applied commands (Hill velocities) into the live satellites' velocity
+    /// states.
+    fn set_velocities_to_commands(&mut self) {
+        let n = self.state.n();
         let data = self.state.as_mut_slice();
         for (i, v) in self.applied_hill.iter().enumerate() {
             if self.fleet.active[i] {

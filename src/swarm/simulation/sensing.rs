@@ -14,7 +14,9 @@ use crate::swarm::law::{EnvironmentView, Law, LawContext, SharedInfo, SwarmView}
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
 
-/// Satellites per parallel work item. Fixed, so that the split of work never depends on the thread count.
+/// Smallest number of satellites per parallel work item (rayon's `with_min_len`; the exact chunk where
+/// work is split with `par_chunks`). Results never depend on the split: every satellite's result is
+/// computed on its own and written to its own slot.
 pub(super) const CHUNK: usize = 256;
 
 /// Per-satellite properties that change only through events, as structure-of-arrays.
@@ -189,16 +191,22 @@ impl<'a> Plant<'a> {
         }
     }
 
-    /// The law context of satellite `i` at tick `tick` (time `time_s`).
-    pub fn context(&self, i: usize, time_s: f64, tick: u64) -> LawContext {
-        LawContext::new(
+    /// The law context of satellite `i` at tick `tick` (time `time_s`), for the state update or (with
+    /// `for_command`) the command: the two draw from independent streams.
+    pub fn context(&self, i: usize, time_s: f64, tick: u64, for_command: bool) -> LawContext {
+        let context = LawContext::new(
             time_s,
             tick,
             self.config.base_step_s(),
             self.fleet.actuators[i],
             i,
             self.config.seed,
-        )
+        );
+        if for_command {
+            context.for_command()
+        } else {
+            context
+        }
     }
 
     /// Evaluates the law for every live satellite of `view` and writes the applied command (Hill frame)
@@ -219,7 +227,7 @@ impl<'a> Plant<'a> {
             .enumerate()
             .for_each(|(i, applied)| {
                 *applied = if self.fleet.active[i] {
-                    let command = law.command(view, i, &self.context(i, time_s, tick));
+                    let command = law.command(view, i, &self.context(i, time_s, tick, true));
                     if kinematic {
                         command
                     } else {
