@@ -22,9 +22,8 @@ fn med(traces: &[Trace], f: impl Fn(&Trace) -> f64) -> f64 {
 
 /// O9, G6 (concentric double circle 0.5/1.5 km, μ = +0.5 km, from a 2 km cube), run to G6_LONG_S
 /// (8000 s), 3 seeds, medians. The spec's "every satellite within 3 % of a ring" does NOT hold, at
-/// 2000 s or at 8000 s: `satflock validate gao` measures 10 % and 54 % of satellites in the band
-/// (5 seeds); this test, seeds 1–3, an outer-ring worst error of 3.5 % and 37 satellites on the inner
-/// ring at 8000 s (README, O9). The ring stiffness is k_f·φ''(±μ) = k_f·μ = 1.5 N/m, time constant
+/// 2000 s or at 8000 s: `satflock validate gao` measures 10 % and 56 % of satellites in the band
+/// (5 seeds; README, O9). The ring stiffness is k_f·φ''(±μ) = k_f·μ = 1.5 N/m, time constant
 /// k_v/(k_f μ) ≈ 1330 s, and satellites near the ridge ρ = 1 km leave it at the same rate. Asserted:
 /// * nearest-ring assignment (spec: ≥ 95 % go to the ring nearer their start, ρ < 1 km → inner) at
 ///   2000 s and at 8000 s: the ridge of the potential is at ρ = r = 1 km, so the sign of ρ − 1 km at

@@ -39,8 +39,9 @@ fn val_connectable_comparison_t1_t3_linear() {
         "T2: {main_small:?} vs {opp_small:?}"
     );
     assert!(opp_small.growing_fraction >= 0.85, "T2: {opp_small:?}");
-    // T2's large-C1 clause (median at 1 h larger for main) does not reproduce: ours 1.8 h (main) vs
-    // 2.3 h (opp) with seed 1, spec prototype 6–52 h vs 2.4–6.4 h; reported as "differs" by
+    // T2's large-C1 clause (median at 1 h larger for main) depends on the draw (spec prototype 6–52 h
+    // vs 2.4–6.4 h over its seeds; ours on seeds 1–3 since the random-stream redesign: 25.0/2.6,
+    // 12.9/4.4, 44.5/2.5 h; with the earlier draws seed 1 gave 1.8 vs 2.3 h); reported by
     // `satflock validate takahashi`, not asserted here.
     // T3: mean sign changes of C1 under main <= half of those under opp, in both cases.
     assert!(main_large.mean_sign_changes <= 0.5 * opp_large.mean_sign_changes);
@@ -50,8 +51,8 @@ fn val_connectable_comparison_t1_t3_linear() {
 #[test]
 fn val_plane_1_truth_first_24_hours() {
     // Θ1 = (30°, 0°), 100 satellites, truth J2, defaults; the §9.5 schedule keeps its 120 h end, so the
-    // first 24 h group every 5 min as in the full run. (Θ2 with seed 1 splits into two halves in the
-    // saturated transient, as 3 of seeds 1–8 do: see the validate report.)
+    // first 24 h group every 5 min as in the full run. (Θ2 splits into two halves in the saturated
+    // transient on 3 of seeds 1–8 — seeds 5, 7 and 8 with the current draws: see the validate report.)
     let s = scenario("ts-plane-1", None, Some(24.0 * 3600.0)).unwrap();
     let run = traced_run(&s, 1800.0, f64::INFINITY).unwrap();
     let st = plane_stats(&run, ORIGIN, RANGE_M, 1e-6);

@@ -774,7 +774,7 @@ pub fn report() -> Result<Report, ValidateError> {
         ));
     }
     notes.push(format!(
-        "Θ2 (ts-plane-2, defaults) by seed, first 4 h: {}. The split is two halves of about 50 satellites whose mean C1 differ by 0.4–0.5 m; once the grouping no longer links them, each half reaches its own C1 consensus and they drift apart at ε2·ΔC1 ≈ 5 m/h (T4–T9 Θ2 above, seed 1). Law, gains and grouping were checked line by line against spec §5–§9 and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
+        "Θ2 (ts-plane-2, defaults) by seed, first 4 h: {}. The split is two halves of about 50 satellites whose mean C1 differ by 0.4–0.5 m; once the grouping no longer links them, each half reaches its own C1 consensus and they drift apart at ε2·ΔC1 ≈ 5 m/h. Law, gains and grouping were checked line by line against spec §5–§9 and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
         sweep.join("; ")
     ));
     // Paper claims (qualitative).

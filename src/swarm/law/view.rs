@@ -63,6 +63,22 @@ pub struct SensedObstacle {
 /// What satellite `i` knows of a neighbour `j` within sensing range. Only the engine makes these
 /// (`non_exhaustive`): a law reads a neighbour's broadcast through a `Neighbour` its view gave it, so it
 /// cannot forge one for a satellite out of reach.
+///
+/// Outside the crate a `Neighbour` cannot be built, even with every public field given (regression
+/// test: a law used to forge one to read the broadcast of any satellite):
+///
+/// ```compile_fail
+/// use nalgebra::Vector3;
+/// use satflock::orbit::RelativeStateHill;
+///
+/// let forged = satflock::swarm::Neighbour {
+///     id: 1,
+///     state: RelativeStateHill::default(),
+///     offset_m: Vector3::zeros(),
+///     distance_m: 0.0,
+/// };
+/// # let _ = forged;
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Neighbour {
