@@ -10,8 +10,10 @@
 //! | `hold` | [`hold`] | PD hold of each satellite's slot (its relative position when the law starts) |
 //! | `bifurcating` | [`bifurcating`] | Gao et al. 2022 bifurcating potential field: formation, collision avoidance, damping |
 //! | `j2-distance` | [`j2_distance`] | Takahashi–Sakai distance-based stabiliser under J2 (main or opposing), with centralised DT grouping |
+//! | `equilibrium-shaping` | [`equilibrium_shaping`] | Nag–Summerer behaviour-based scatter under threat warnings: equilibrium-shaped velocity fields tracked on HCW, four strategies |
 
 pub mod bifurcating;
+pub mod equilibrium_shaping;
 pub mod free_drift;
 pub mod hold;
 pub mod j2_distance;
@@ -33,11 +35,19 @@ pub enum LawConfig {
     Bifurcating(bifurcating::BifurcatingParameters),
     /// Takahashi–Sakai distance-based stabiliser under J2.
     J2Distance(j2_distance::J2DistanceParameters),
+    /// Behaviour-based scatter by equilibrium shaping (Nag & Summerer 2013).
+    EquilibriumShaping(equilibrium_shaping::EquilibriumShapingParameters),
 }
 
 impl LawConfig {
     /// Registry names of every law, for error messages and `satflock scenarios`.
-    pub const NAMES: &'static [&'static str] = &["none", "hold", "bifurcating", "j2-distance"];
+    pub const NAMES: &'static [&'static str] = &[
+        "none",
+        "hold",
+        "bifurcating",
+        "j2-distance",
+        "equilibrium-shaping",
+    ];
 
     /// Builds the law, checking its parameters.
     pub fn build(&self) -> Result<Law, LawError> {
@@ -46,6 +56,9 @@ impl LawConfig {
             LawConfig::Hold(p) => Law::new(hold::Hold::new(p.clone())?),
             LawConfig::Bifurcating(p) => Law::new(bifurcating::Bifurcating::new(p.clone())?),
             LawConfig::J2Distance(p) => Law::new(j2_distance::J2Distance::new(p.clone())?),
+            LawConfig::EquilibriumShaping(p) => Law::new(
+                equilibrium_shaping::EquilibriumShaping::new(p.clone())?,
+            ),
         })
     }
 
@@ -56,6 +69,7 @@ impl LawConfig {
             LawConfig::Hold(_) => "hold",
             LawConfig::Bifurcating(_) => "bifurcating",
             LawConfig::J2Distance(_) => "j2-distance",
+            LawConfig::EquilibriumShaping(_) => "equilibrium-shaping",
         }
     }
 
@@ -66,6 +80,7 @@ impl LawConfig {
             LawConfig::Hold(p) => LawParameters::new(p),
             LawConfig::Bifurcating(p) => LawParameters::new(p),
             LawConfig::J2Distance(p) => LawParameters::new(p),
+            LawConfig::EquilibriumShaping(p) => LawParameters::new(p),
         }
     }
 }

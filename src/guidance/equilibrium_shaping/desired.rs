@@ -1,0 +1,401 @@
+//! The active desired-velocity field of one satellite: which building blocks a strategy uses in each
+//! mode (spec §5's table), their sum at the satellite's sensed state, and the analytic material
+//! derivative of that sum along the satellite's and its neighbours' motion; also the stacked field
+//! Jacobian at the nodes that bounds the closed-loop rate.
+//!
+//! Hill frame (x radial out, y along-track, z orbit normal), relative to the LVLH origin \[m, m/s\].
+
+use nalgebra::{DMatrix, Vector3};
+
+use super::field::{self, EscapeRule, FieldTerm, Viscosity};
+use super::parameters::{Escape, EquilibriumShapingParameters, Strategy};
+use super::shaping::pair_attraction_per_s;
+use super::state_machine::{EsState, Mode};
+use crate::swarm::SatelliteView;
+
+/// The position-dependent building blocks of a field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldSet {
+    /// Eq. 1 pair attraction–repulsion with a_ij from Eq. 4 (keeps relative geometry).
+    Pair,
+    /// Gather (Eq. 13) + avoid (Eq. 14, ES coefficients) + dock (Eq. 15) (returns to the nodes).
+    GatherAvoidDock,
+    /// Lennard-Jones (σ_ij = node distances) + scatter + viscosity (Eqs. 8–12).
+    Scatter,
+}
+
+/// Which threat term is added.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ThreatUse {
+    /// None.
+    Off,
+    /// The threat the satellite's own sensors see within the physical sensing radius, K = 2 (R_s/3)².
+    Physical,
+    /// The warned threat on its on-board track, K_i from the virtual sensing radius.
+    Warned,
+}
+
+/// The field of `strategy` in `mode` (spec §5). NOMINAL and RETURNING add the physically sensed threat
+/// term; WARNED adds the warned one, except in S1, whose satellites are not told the threat's state.
+pub fn field_of(strategy: Strategy, mode: Mode) -> (FieldSet, ThreatUse) {
+    use FieldSet::*;
+    match (strategy, mode) {
+        (Strategy::ScatterGather, Mode::Warned) => (Scatter, ThreatUse::Off),
+        (Strategy::ScatterGather | Strategy::FixedCentroid, Mode::Nominal | Mode::Returning) => {
+            (GatherAvoidDock, ThreatUse::Physical)
+        }
+        (Strategy::FixedCentroid, Mode::Warned) => (GatherAvoidDock, ThreatUse::Warned),
+        (Strategy::MovingCentroid | Strategy::Mix, Mode::Nominal) => (Pair, ThreatUse::Physical),
+        (Strategy::MovingCentroid, Mode::Returning) => (Pair, ThreatUse::Physical),
+        (Strategy::MovingCentroid | Strategy::Mix, Mode::Warned) => (Pair, ThreatUse::Warned),
+        (Strategy::Mix, Mode::Returning) => (GatherAvoidDock, ThreatUse::Physical),
+    }
+}
+
+/// Every field a strategy uses, over its three modes.
+pub fn fields_of(strategy: Strategy) -> Vec<(FieldSet, ThreatUse)> {
+    let mut out: Vec<(FieldSet, ThreatUse)> = Vec::new();
+    for mode in [Mode::Nominal, Mode::Warned, Mode::Returning] {
+        let f = field_of(strategy, mode);
+        if !out.contains(&f) {
+            out.push(f);
+        }
+    }
+    out
+}
+
+/// What the law precomputes once from its parameters: the nodes and the pair coefficient tables.
+#[derive(Clone, Debug)]
+pub struct Tables {
+    /// ξ_i, Hill \[m\].
+    pub nodes_m: Vec<Vector3<f64>>,
+    /// Centroid of the nodes, Hill \[m\].
+    pub node_centroid_m: Vector3<f64>,
+    /// Avoid coefficients b_ij \[1/s\], row-major N × N, symmetric (empty when the strategy has no
+    /// gather/avoid/dock field).
+    pub avoid_per_s: Vec<f64>,
+    /// The `perp-common` direction (also the `perp-radial` fallback) for the law's threat as the scenario
+    /// defines it, Hill unit vector (`None` until the law has started, or without such a threat).
+    pub common_escape_hill: Option<Vector3<f64>>,
+}
+
+impl Tables {
+    /// Desired distance δ_ij = ‖ξ_i − ξ_j‖ \[m\].
+    pub fn distance_m(&self, i: usize, j: usize) -> f64 {
+        (self.nodes_m[i] - self.nodes_m[j]).norm()
+    }
+
+    /// Avoid coefficient b_ij \[1/s\].
+    pub fn avoid_per_s(&self, i: usize, j: usize) -> f64 {
+        self.avoid_per_s[i * self.nodes_m.len() + j]
+    }
+
+    /// Unit direction from the danger centre to node i (the scatter term's direction at the centre), +x
+    /// when the node is the centre.
+    fn node_direction(&self, i: usize, center_m: &Vector3<f64>) -> Vector3<f64> {
+        let d = self.nodes_m[i] - center_m;
+        let n = d.norm();
+        if n > field::DIRECTION_EPSILON_M {
+            d / n
+        } else {
+            Vector3::x()
+        }
+    }
+}
+
+/// The active field at one satellite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DesiredVelocity {
+    /// The sum of every term except the viscosity, Hill \[m/s\].
+    pub field_velocity_mps: Vector3<f64>,
+    /// The viscosity coefficient and its gradient (zero outside S1's scatter field).
+    pub viscosity: Viscosity,
+    /// Material derivative of `field_velocity_mps` along the motion (own and neighbours' velocities,
+    /// the threat's motion) plus the viscosity term's −(∇ν·v) v, Hill \[m/s²\]; the viscosity's −ν v̇ is
+    /// resolved by the controller.
+    pub material_derivative_m_s2: Vector3<f64>,
+}
+
+impl DesiredVelocity {
+    /// The desired velocity v_des = v_field − ν v for the satellite's actual velocity `velocity_mps`.
+    pub fn velocity_mps(&self, velocity_mps: &Vector3<f64>) -> Vector3<f64> {
+        self.field_velocity_mps + self.viscosity.velocity_mps(velocity_mps)
+    }
+
+    /// The kinematic model's velocity: the fixed point v = v_field − ν v, i.e. v_field / (1 + ν).
+    pub fn kinematic_velocity_mps(&self) -> Vector3<f64> {
+        self.field_velocity_mps / (1.0 + self.viscosity.coefficient)
+    }
+}
+
+/// Adds a term and its material derivative.
+fn add(
+    sum: &mut (Vector3<f64>, Vector3<f64>),
+    term: &FieldTerm,
+    own_v: &Vector3<f64>,
+    nb_v: &Vector3<f64>,
+) {
+    sum.0 += term.velocity_mps;
+    sum.1 += term.material_derivative_m_s2(own_v, nb_v);
+}
+
+/// The escape rule for a threat moving with `velocity_mps`, given the stored or precomputed common
+/// direction `common` (a unit vector).
+fn escape_rule(escape: Escape, velocity_mps: &Vector3<f64>, common: &Vector3<f64>) -> EscapeRule {
+    match escape {
+        Escape::Parallel => {
+            let n = velocity_mps.norm();
+            EscapeRule::Fixed(if n > 0.0 {
+                velocity_mps / n
+            } else {
+                Vector3::x()
+            })
+        }
+        Escape::PerpCommon => EscapeRule::Fixed(*common),
+        Escape::PerpRadial => EscapeRule::Radial { fallback: *common },
+    }
+}
+
+/// The active field of satellite `satellite` in state `state`.
+pub fn desired_velocity(
+    p: &EquilibriumShapingParameters,
+    tables: &Tables,
+    satellite: &SatelliteView<'_>,
+    state: &EsState,
+) -> DesiredVelocity {
+    let (set, threat_use) = field_of(p.strategy, state.mode);
+    let own = satellite.own_state();
+    let (x, v) = (own.position_m, own.velocity_mps);
+    let i = satellite.id();
+    let zero = Vector3::zeros();
+    let mut sum = (Vector3::zeros(), Vector3::zeros());
+    let mut viscosity = Viscosity {
+        coefficient: 0.0,
+        gradient_per_m: Vector3::zeros(),
+    };
+    match set {
+        FieldSet::Pair => satellite.for_each_neighbour(|nb| {
+            let delta = tables.distance_m(i, nb.id);
+            let a = pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2);
+            let term = field::pair_attraction_repulsion(&-nb.offset_m, a, p.pair_b_per_s, p.pair_c_m2);
+            add(&mut sum, &term, &v, &nb.state.velocity_mps);
+        }),
+        FieldSet::GatherAvoidDock => {
+            let n = tables.nodes_m.len() as f64;
+            // Σ_t −c (x − ξ_t) = −N c (x − ξ̄): one sink at the centroid with gain N c.
+            let gather = field::gather(&x, &tables.node_centroid_m, n * p.gather_per_s);
+            add(&mut sum, &gather, &v, &zero);
+            for sink in &tables.nodes_m {
+                let dock = field::dock(&x, sink, p.dock_per_s, p.dock_range_m2);
+                add(&mut sum, &dock, &v, &zero);
+            }
+            satellite.for_each_neighbour(|nb| {
+                let b = tables.avoid_per_s(i, nb.id);
+                let term = field::avoid(&-nb.offset_m, b, p.avoid_range_m2);
+                add(&mut sum, &term, &v, &nb.state.velocity_mps);
+            });
+        }
+        FieldSet::Scatter => {
+            satellite.for_each_neighbour(|nb| {
+                let sigma = tables.distance_m(i, nb.id);
+                let term = field::lennard_jones(&-nb.offset_m, p.lj_epsilon_m2_per_s, sigma);
+                add(&mut sum, &term, &v, &nb.state.velocity_mps);
+            });
+            let center = Vector3::from(p.danger_center_hill_m);
+            let scatter = field::scatter(
+                &x,
+                &center,
+                p.danger_radius_m,
+                p.scatter_gain_per_m_s,
+                &tables.node_direction(i, &center),
+            );
+            add(&mut sum, &scatter, &v, &zero);
+            viscosity = field::viscosity(
+                &x,
+                &center,
+                p.danger_radius_m,
+                p.viscosity_gain,
+                p.viscosity_band_m,
+            );
+            sum.1 += viscosity.material_derivative_fixed_velocity_m_s2(&v);
+        }
+    }
+    match threat_use {
+        ThreatUse::Off => {}
+        ThreatUse::Physical => {
+            if state.threat_sensed {
+                let common = tables.common_escape_hill.unwrap_or_else(Vector3::x);
+                satellite.for_each_threat(|threat| {
+                    if threat.id == p.threat {
+                        let rule = escape_rule(p.escape, &threat.velocity_hill_mps, &common);
+                        let term = field::threat(
+                            &x,
+                            &threat.position_hill_m,
+                            &threat.velocity_hill_mps,
+                            p.threat_scale_mps,
+                            p.physical_width_m2(),
+                            &rule,
+                        );
+                        add(&mut sum, &term, &v, &zero);
+                    }
+                });
+            }
+        }
+        ThreatUse::Warned => {
+            if let Some(w) = &state.warning {
+                let rule = escape_rule(
+                    p.escape,
+                    &w.threat_velocity_hill_mps,
+                    &w.escape_direction_hill,
+                );
+                let term = field::threat(
+                    &x,
+                    &w.threat_position_at_hill_m(satellite.shared().time_s),
+                    &w.threat_velocity_hill_mps,
+                    p.threat_scale_mps,
+                    w.width_m2,
+                    &rule,
+                );
+                add(&mut sum, &term, &v, &zero);
+            }
+        }
+    }
+    DesiredVelocity {
+        field_velocity_mps: sum.0,
+        viscosity,
+        material_derivative_m_s2: sum.1,
+    }
+}
+
+/// The Jacobian of the stacked field (every satellite on its node) of one field set with respect to
+/// every position, 3N × 3N \[1/s\]: block (i, i) the own-position derivatives, block (i, j) the
+/// neighbour's. The threat term and the viscosity are not included (they have no fixed point to
+/// linearise about; the law bounds them separately).
+pub fn stacked_jacobian_at_nodes(
+    p: &EquilibriumShapingParameters,
+    tables: &Tables,
+    set: FieldSet,
+) -> DMatrix<f64> {
+    let nodes = &tables.nodes_m;
+    let n = nodes.len();
+    let mut jac = DMatrix::zeros(3 * n, 3 * n);
+    let center = Vector3::from(p.danger_center_hill_m);
+    for i in 0..n {
+        let x = nodes[i];
+        let mut own_terms: Vec<FieldTerm> = Vec::new();
+        match set {
+            FieldSet::Pair => {}
+            FieldSet::GatherAvoidDock => {
+                own_terms.push(field::gather(
+                    &x,
+                    &tables.node_centroid_m,
+                    n as f64 * p.gather_per_s,
+                ));
+                for sink in nodes {
+                    own_terms.push(field::dock(&x, sink, p.dock_per_s, p.dock_range_m2));
+                }
+            }
+            FieldSet::Scatter => own_terms.push(field::scatter(
+                &x,
+                &center,
+                p.danger_radius_m,
+                p.scatter_gain_per_m_s,
+                &tables.node_direction(i, &center),
+            )),
+        }
+        for t in &own_terms {
+            let mut block = jac.fixed_view_mut::<3, 3>(3 * i, 3 * i);
+            block += t.d_own_per_s;
+        }
+        for j in (0..n).filter(|j| *j != i) {
+            let y = x - nodes[j];
+            let delta = tables.distance_m(i, j);
+            let t = match set {
+                FieldSet::Pair => field::pair_attraction_repulsion(
+                    &y,
+                    pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
+                    p.pair_b_per_s,
+                    p.pair_c_m2,
+                ),
+                FieldSet::GatherAvoidDock => {
+                    field::avoid(&y, tables.avoid_per_s(i, j), p.avoid_range_m2)
+                }
+                FieldSet::Scatter => field::lennard_jones(&y, p.lj_epsilon_m2_per_s, delta),
+            };
+            let mut own_block = jac.fixed_view_mut::<3, 3>(3 * i, 3 * i);
+            own_block += t.d_own_per_s;
+            let mut nb_block = jac.fixed_view_mut::<3, 3>(3 * i, 3 * j);
+            nb_block += t.d_neighbour_per_s;
+        }
+    }
+    jac
+}
+
+/// Largest eigenvalue modulus of [`stacked_jacobian_at_nodes`] \[1/s\].
+pub fn field_rate_at_nodes_per_s(
+    p: &EquilibriumShapingParameters,
+    tables: &Tables,
+    set: FieldSet,
+) -> f64 {
+    stacked_jacobian_at_nodes(p, tables, set)
+        .complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+}
+
+/// The field of every satellite on its node when the whole swarm sits on the nodes at rest, for one
+/// field set (no threat): what equilibrium shaping makes zero \[m/s\].
+pub fn field_at_nodes_mps(
+    p: &EquilibriumShapingParameters,
+    tables: &Tables,
+    set: FieldSet,
+) -> Vec<Vector3<f64>> {
+    let nodes = &tables.nodes_m;
+    let n = nodes.len();
+    let center = Vector3::from(p.danger_center_hill_m);
+    (0..n)
+        .map(|i| {
+            let x = nodes[i];
+            let mut v = match set {
+                FieldSet::Pair => Vector3::zeros(),
+                FieldSet::GatherAvoidDock => {
+                    let mut v = field::gather(&x, &tables.node_centroid_m, n as f64 * p.gather_per_s)
+                        .velocity_mps;
+                    for sink in nodes {
+                        v += field::dock(&x, sink, p.dock_per_s, p.dock_range_m2).velocity_mps;
+                    }
+                    v
+                }
+                FieldSet::Scatter => {
+                    field::scatter(
+                        &x,
+                        &center,
+                        p.danger_radius_m,
+                        p.scatter_gain_per_m_s,
+                        &tables.node_direction(i, &center),
+                    )
+                    .velocity_mps
+                }
+            };
+            for j in (0..n).filter(|j| *j != i) {
+                let y = x - nodes[j];
+                let delta = tables.distance_m(i, j);
+                v += match set {
+                    FieldSet::Pair => field::pair_attraction_repulsion(
+                        &y,
+                        pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
+                        p.pair_b_per_s,
+                        p.pair_c_m2,
+                    ),
+                    FieldSet::GatherAvoidDock => {
+                        field::avoid(&y, tables.avoid_per_s(i, j), p.avoid_range_m2)
+                    }
+                    FieldSet::Scatter => field::lennard_jones(&y, p.lj_epsilon_m2_per_s, delta),
+                }
+                .velocity_mps;
+            }
+            v
+        })
+        .collect()
+}

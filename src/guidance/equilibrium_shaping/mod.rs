@@ -1,0 +1,642 @@
+//! The `equilibrium-shaping` law: behaviour-based, distributed scatter manoeuvres of a small satellite
+//! cluster under a threat warning, after S. Nag and L. Summerer, "Behaviour based, autonomous and
+//! distributed scatter manoeuvres for satellite swarms", Acta Astronautica 82 (2013) 95–109. Method
+//! page: `docs/methods/equilibrium-shaping.md`.
+//!
+//! Two layers run on every satellite, in the Hill frame (x radial out, y along-track, z orbit normal)
+//! relative to the LVLH origin (the formation centre):
+//!
+//! 1. **Kinematic layer**: a desired-velocity field v_des \[m/s\] summed from behaviour terms
+//!    ([`field`]), whose free coefficients are set once by **equilibrium shaping** ([`shaping`]) so that
+//!    the field vanishes with every satellite on its node (satellite i ↔ node i). Which terms are active
+//!    depends on the strategy and the satellite's mode ([`desired::field_of`], [`state_machine`]).
+//! 2. **Dynamic layer** (paper Eq. 7): u = k (v_des − v) + a_ff − a_in(x, v) \[m/s²\], with a_in the HCW
+//!    natural acceleration (3n²x + 2n ẏ, −2n ẋ, −n²z) of the reference's mean motion n and a_ff the
+//!    analytic material derivative of v_des along the motion: J_i v_i + Σ_j ∂v_des/∂x_j v_j + ∂v_des/∂t
+//!    (the Jacobians come with every term; the threat's motion enters through ∂/∂t). The actuator cap
+//!    and process noise are the engine's.
+//!
+//! **The viscosity term's own-velocity dependence** (S1 WARNED only): v_des = v_f − ν(x) v depends on the
+//! satellite's actual velocity v. Its material derivative contains −ν v̇, and v̇ = a_in + u is what the
+//! command itself produces. The law resolves this algebraically: with a_f the material derivative of
+//! v_f − ν v at fixed v (−(∇ν·v) v included), a_ff = a_f − ν v̇ and v̇ = k (v_des − v) + a_ff give
+//! u = (k (v_des − v) + a_f) / (1 + ν) − a_in, so that the tracking error e = v_des − v obeys ė = −k e
+//! exactly (before saturation and noise). With `feedforward = "none"` the command is
+//! u = k (v_des − v) − a_in, whose velocity loop then has the rate k (1 + ν). On the kinematic model the
+//! commanded velocity is the fixed point v = v_f − ν v, i.e. v_f / (1 + ν).
+//!
+//! **Feed-forward reset**: on every switch of a satellite's state machine (mode change, or the threat
+//! entering or leaving the physical sensing radius) a_ff is zero for that tick, as spec §5 prescribes.
+//! The analytic feed-forward has no memory, so the reset only drops one tick of it.
+//!
+//! **Costs**: pair terms run over the neighbours the engine's grid returns (O(N) per step for a bounded
+//! neighbourhood); the dock term sums over every node (each satellite knows every node, O(N) per
+//! satellite); the equilibrium-shaping solve is a dense SVD of 3N × N(N−1)/2, done once, which limits
+//! the strategies that use it to [`MAX_SHAPED_NODES`] nodes.
+
+pub mod desired;
+pub mod field;
+pub mod parameters;
+pub mod shaping;
+pub mod state_machine;
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use nalgebra::Vector3;
+use serde_json::{json, Value};
+
+use crate::relative::Hcw;
+use crate::swarm::{
+    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView,
+};
+
+pub use desired::{DesiredVelocity, FieldSet, Tables, ThreatUse};
+pub use parameters::{EquilibriumShapingParameters, Escape, Feedforward, Formation, Strategy};
+pub use shaping::{EsSolution, GatherAvoidDock, ShapingError};
+pub use state_machine::{EsState, MachineSettings, Mode, ModeChange, ModeEvent, Observation};
+
+/// Largest node count of the strategies that solve for avoid coefficients (S1, S3, S4): the dense SVD of
+/// the 3N × N(N−1)/2 system takes about a second at this size.
+pub const MAX_SHAPED_NODES: usize = 64;
+
+/// Per-satellite output columns.
+const OUTPUT_NAMES: &[&str] = &["es_mode"];
+
+/// Metric columns.
+const METRIC_NAMES: &[&str] = &[
+    "es_formation_error_m",
+    "es_centroid_displacement_m",
+    "es_min_threat_distance_m",
+    "es_nominal",
+    "es_warned",
+    "es_returning",
+];
+
+fn invalid(message: String) -> LawError {
+    LawError::InvalidParameters {
+        law: "equilibrium-shaping".into(),
+        message,
+    }
+}
+
+/// What the law learns from the swarm when it starts (to check parameter updates against).
+#[derive(Clone, Debug, PartialEq)]
+struct Started {
+    /// Sensing range of the swarm \[m\].
+    sensing_range_m: f64,
+    /// Number of satellites.
+    count: usize,
+    /// Velocity of every scenario threat, Hill \[m/s\].
+    threat_velocities_hill_mps: Vec<Vector3<f64>>,
+}
+
+/// The `equilibrium-shaping` law.
+#[derive(Clone, Debug)]
+pub struct EquilibriumShaping {
+    parameters: EquilibriumShapingParameters,
+    tables: Arc<Tables>,
+    /// The avoid-coefficient solution (strategies with a gather/avoid/dock field).
+    avoid: Option<EsSolution>,
+    /// Largest |λ| of the stacked Jacobian at the nodes over the strategy's fields \[1/s\].
+    field_rate_per_s: f64,
+    /// What the law learnt from the swarm when it started.
+    started: Option<Started>,
+    /// Smallest satellite–threat distance over the recordings so far \[m\].
+    min_threat_distance_m: f64,
+}
+
+impl EquilibriumShaping {
+    /// Builds the law: checks the parameters, solves the equilibrium shaping if the strategy needs it and
+    /// computes the field's rate at the nodes.
+    pub fn new(parameters: EquilibriumShapingParameters) -> Result<Self, LawError> {
+        let (tables, avoid, field_rate_per_s) = Self::prepare(&parameters, None)?;
+        Ok(Self {
+            parameters,
+            tables: Arc::new(tables),
+            avoid,
+            field_rate_per_s,
+            started: None,
+            min_threat_distance_m: f64::INFINITY,
+        })
+    }
+
+    /// Node tables, avoid solution and field rate of a parameter set (keeping a known common escape
+    /// direction).
+    fn prepare(
+        p: &EquilibriumShapingParameters,
+        common_escape_hill: Option<Vector3<f64>>,
+    ) -> Result<(Tables, Option<EsSolution>, f64), LawError> {
+        p.check()?;
+        let nodes = p.nodes_hill_m();
+        let n = nodes.len();
+        let fields = desired::fields_of(p.strategy);
+        let shaped = fields
+            .iter()
+            .any(|(set, _)| *set == FieldSet::GatherAvoidDock);
+        let avoid = if shaped {
+            if n > MAX_SHAPED_NODES {
+                return Err(invalid(format!(
+                    "strategy = \"{}\" solves for the avoid coefficients of every pair (a dense \
+                     3N × N(N-1)/2 system): {n} nodes exceed the {MAX_SHAPED_NODES} allowed (use \
+                     strategy = \"moving-centroid\" for larger formations)",
+                    p.strategy.name()
+                )));
+            }
+            Some(
+                shaping::solve_avoid_coefficients(&nodes, &p.gather_avoid_dock())
+                    .map_err(|e| invalid(format!("equilibrium shaping: {e}")))?,
+            )
+        } else {
+            None
+        };
+        let mut avoid_table = Vec::new();
+        if let Some(solution) = &avoid {
+            avoid_table = vec![0.0; n * n];
+            for (&(i, j), b) in solution.pairs.iter().zip(&solution.coefficients_per_s) {
+                avoid_table[i * n + j] = *b;
+                avoid_table[j * n + i] = *b;
+            }
+        }
+        let centroid = nodes.iter().sum::<Vector3<f64>>() / n as f64;
+        let tables = Tables {
+            nodes_m: nodes,
+            node_centroid_m: centroid,
+            avoid_per_s: avoid_table,
+            common_escape_hill,
+        };
+        let rate = fields
+            .iter()
+            .map(|(set, _)| desired::field_rate_at_nodes_per_s(p, &tables, *set))
+            .fold(0.0, f64::max);
+        Ok((tables, avoid, rate))
+    }
+
+    /// The current parameters.
+    pub fn parameters(&self) -> &EquilibriumShapingParameters {
+        &self.parameters
+    }
+
+    /// The node tables.
+    pub fn tables(&self) -> &Tables {
+        &self.tables
+    }
+
+    /// The equilibrium-shaping solution of the avoid coefficients (strategies S1, S3, S4).
+    pub fn avoid_solution(&self) -> Option<&EsSolution> {
+        self.avoid.as_ref()
+    }
+
+    /// Largest eigenvalue modulus of the stacked field Jacobian at the nodes over the strategy's fields
+    /// \[1/s\] (threat and viscosity terms excluded; see [`GuidanceLaw::fastest_rate_per_s`]).
+    pub fn field_rate_at_nodes_per_s(&self) -> f64 {
+        self.field_rate_per_s
+    }
+
+    /// The state machine's settings.
+    pub fn machine_settings(&self) -> MachineSettings {
+        let p = &self.parameters;
+        MachineSettings {
+            physical_sensing_radius_m: p.physical_sensing_radius_m,
+            escape: p.escape,
+            escape_direction_hill: p.escape_direction_hill.map(Vector3::from),
+            escape_seed: p.escape_seed,
+            settle_error_m: p.settle_error_m,
+            settle_speed_mps: p.settle_speed_mps,
+            settle_hold_s: p.settle_hold_s,
+        }
+    }
+
+    /// The active field of satellite `satellite` in state `state`: velocity and material derivative.
+    pub fn desired_velocity(
+        &self,
+        satellite: &SatelliteView<'_>,
+        state: &EsState,
+    ) -> DesiredVelocity {
+        desired::desired_velocity(&self.parameters, &self.tables, satellite, state)
+    }
+
+    /// What satellite `satellite` observes for its state machine (settling quantities only in
+    /// RETURNING, where they are used).
+    pub fn observe(&self, satellite: &SatelliteView<'_>, mode: Mode) -> Observation {
+        let p = &self.parameters;
+        let own = satellite.own_state();
+        let mut sensed = None;
+        satellite.for_each_threat(|t| {
+            if t.id == p.threat {
+                sensed = Some(t.distance_m);
+            }
+        });
+        let (mut sum, mut count, mut speed) = (0.0, 0usize, own.velocity_mps.norm());
+        if mode == Mode::Returning {
+            let i = satellite.id();
+            satellite.for_each_neighbour(|nb| {
+                let e = nb.distance_m - self.tables.distance_m(i, nb.id);
+                sum += e * e;
+                count += 1;
+                speed = speed.max(nb.state.velocity_mps.norm());
+            });
+        }
+        Observation {
+            time_s: satellite.shared().time_s,
+            own_position_hill_m: own.position_m,
+            warned_threat_hill: satellite
+                .warned_threat(p.threat)
+                .map(|t| (t.position_hill_m, t.velocity_hill_mps)),
+            sensed_threat_distance_m: sensed,
+            pair_rms_error_m: if count > 0 {
+                (sum / count as f64).sqrt()
+            } else {
+                0.0
+            },
+            max_speed_mps: speed,
+        }
+    }
+
+    /// Checks a parameter set against the swarm: one satellite per node, every node pair within sensing
+    /// range, the threat index, a usable `perp-common` direction. Returns the common escape direction
+    /// for the law's threat (`None` when the scenario has no threat).
+    fn check_swarm(
+        p: &EquilibriumShapingParameters,
+        tables: &Tables,
+        started: &Started,
+    ) -> Result<Option<Vector3<f64>>, LawError> {
+        let nodes = tables.nodes_m.len();
+        if started.count != nodes {
+            return Err(invalid(format!(
+                "the formation has {nodes} nodes but the swarm {} satellites (satellite i takes node \
+                 i: give as many satellites as nodes)",
+                started.count
+            )));
+        }
+        let largest = Self::largest_node_distance_m(tables);
+        let range = started.sensing_range_m;
+        if largest > range {
+            return Err(invalid(format!(
+                "the largest node distance {largest} m exceeds the sensing range {range} m: the pair \
+                 terms need every satellite to sense every other on the nodes (allowed: \
+                 sensing.range_m >= {largest})"
+            )));
+        }
+        let threats = &started.threat_velocities_hill_mps;
+        if threats.is_empty() {
+            return Ok(None);
+        }
+        let Some(v_t) = threats.get(p.threat) else {
+            return Err(invalid(format!(
+                "threat = {} but the scenario has {} threats (allowed: 0 ..= {})",
+                p.threat,
+                threats.len(),
+                threats.len() - 1
+            )));
+        };
+        if let (Escape::PerpCommon, Some(d)) = (p.escape, p.escape_direction_hill) {
+            if !state_machine::direction_is_perpendicular_enough(&Vector3::from(d), v_t) {
+                return Err(invalid(format!(
+                    "escape_direction_hill = {d:?} is along the velocity of threat {} ({:?} m/s): \
+                     nothing is left perpendicular to it (allowed: any direction not parallel to the \
+                     threat's velocity)",
+                    p.threat,
+                    [v_t.x, v_t.y, v_t.z]
+                )));
+            }
+        }
+        Ok(Some(state_machine::common_escape_direction(
+            v_t,
+            p.escape_direction_hill.map(Vector3::from).as_ref(),
+            p.escape_seed,
+        )))
+    }
+
+    fn largest_node_distance_m(tables: &Tables) -> f64 {
+        let n = tables.nodes_m.len();
+        let mut largest: f64 = 0.0;
+        for i in 0..n {
+            for j in i + 1..n {
+                largest = largest.max(tables.distance_m(i, j));
+            }
+        }
+        largest
+    }
+
+    /// Formation error (RMS over live pairs of ‖x_i − x_j‖ − δ_ij) \[m\] and centroid displacement
+    /// (centroid of the live satellites minus the centroid of their nodes) \[m\] of a swarm.
+    pub fn formation_error(&self, swarm: &SwarmView<'_>) -> (f64, f64) {
+        let n = swarm.len().min(self.tables.nodes_m.len());
+        let live: Vec<usize> = (0..n).filter(|i| swarm.active[*i]).collect();
+        let (mut sum, mut pairs) = (0.0, 0usize);
+        for (a, &i) in live.iter().enumerate() {
+            for &j in &live[a + 1..] {
+                let d = (swarm.relative_states[i].position_m - swarm.relative_states[j].position_m)
+                    .norm();
+                let e = d - self.tables.distance_m(i, j);
+                sum += e * e;
+                pairs += 1;
+            }
+        }
+        let error = if pairs > 0 {
+            (sum / pairs as f64).sqrt()
+        } else {
+            0.0
+        };
+        let displacement = if live.is_empty() {
+            0.0
+        } else {
+            let c: Vector3<f64> = live
+                .iter()
+                .map(|i| swarm.relative_states[*i].position_m - self.tables.nodes_m[*i])
+                .sum();
+            (c / live.len() as f64).norm()
+        };
+        (error, displacement)
+    }
+
+    /// Smallest distance of a live satellite from the law's threat now \[m\] (`None` without it).
+    fn threat_distance_m(&self, swarm: &SwarmView<'_>) -> Option<f64> {
+        let threat = swarm.environment.threats.get(self.parameters.threat)?;
+        let p = threat.position_hill_m(swarm.shared.time_s);
+        (0..swarm.len())
+            .filter(|i| swarm.active[*i])
+            .map(|i| (swarm.relative_states[i].position_m - p).norm())
+            .reduce(f64::min)
+    }
+}
+
+impl GuidanceLaw for EquilibriumShaping {
+    type State = EsState;
+    type Parameters = EquilibriumShapingParameters;
+
+    fn name(&self) -> &'static str {
+        "equilibrium-shaping"
+    }
+
+    fn command_kind(&self) -> CommandKind {
+        if self.parameters.kinematic {
+            CommandKind::Velocity
+        } else {
+            CommandKind::Acceleration
+        }
+    }
+
+    fn initialise(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        states: &mut [EsState],
+    ) -> Result<(), LawError> {
+        let started = Started {
+            sensing_range_m: swarm.shared.sensing_range_m,
+            count: swarm.len(),
+            threat_velocities_hill_mps: swarm
+                .environment
+                .threats
+                .iter()
+                .map(|t| t.velocity_hill_mps())
+                .collect(),
+        };
+        let common = Self::check_swarm(&self.parameters, &self.tables, &started)?;
+        let mut tables = (*self.tables).clone();
+        tables.common_escape_hill = common;
+        self.tables = Arc::new(tables);
+        self.started = Some(started);
+        self.min_threat_distance_m = f64::INFINITY;
+        for s in states.iter_mut() {
+            s.mode_since_s = swarm.shared.time_s;
+        }
+        Ok(())
+    }
+
+    fn update_state(
+        &self,
+        satellite: &SatelliteView<'_>,
+        broadcast: &Broadcast<'_, EsState>,
+        _context: &LawContext,
+    ) -> EsState {
+        let previous = broadcast.own();
+        let observation = self.observe(satellite, previous.mode);
+        state_machine::next_state(previous, &observation, &self.machine_settings())
+    }
+
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        state: &EsState,
+        _context: &LawContext,
+    ) -> Vector3<f64> {
+        let p = &self.parameters;
+        let desired = self.desired_velocity(satellite, state);
+        if p.kinematic {
+            return desired.kinematic_velocity_mps();
+        }
+        let own = satellite.own_state();
+        let v = own.velocity_mps;
+        let k = p.tracking_gain_per_s;
+        let error = desired.velocity_mps(&v) - v;
+        let tracking = if p.feedforward == Feedforward::Analytic && !state.feedforward_suppressed {
+            (k * error + desired.material_derivative_m_s2) / (1.0 + desired.viscosity.coefficient)
+        } else {
+            k * error
+        };
+        let natural = Hcw::new(satellite.shared().mean_motion_rad_s)
+            .natural_acceleration_m_s2(&own.position_m, &v);
+        tracking - natural
+    }
+
+    fn set_parameters(&mut self, parameters: &EquilibriumShapingParameters) -> Result<(), LawError> {
+        let (mut tables, avoid, rate) = Self::prepare(parameters, None)?;
+        if let Some(started) = &self.started {
+            tables.common_escape_hill = Self::check_swarm(parameters, &tables, started)?;
+        }
+        self.parameters = parameters.clone();
+        self.tables = Arc::new(tables);
+        self.avoid = avoid;
+        self.field_rate_per_s = rate;
+        Ok(())
+    }
+
+    /// max(k, |λ_max| of the stacked field Jacobian at the nodes over the strategy's fields, the threat
+    /// term's largest gradient A √(2/K) e^(−1/2) at the physical width when a threat term is used, and
+    /// k (1 + K_ν) for the viscosity without feed-forward) \[1/s\]. Warned threat terms use a virtual
+    /// width K_i ≥ the physical one whenever the warning comes before the threat is within R_s, so their
+    /// gradient is smaller. The mass does not enter (the law commands accelerations per unit mass).
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        let p = &self.parameters;
+        let fields = desired::fields_of(p.strategy);
+        let mut rate = p.tracking_gain_per_s.max(self.field_rate_per_s);
+        if fields.iter().any(|(_, t)| *t != ThreatUse::Off) {
+            rate = rate.max(field::threat_rate_bound_per_s(
+                p.threat_scale_mps,
+                p.physical_width_m2(),
+            ));
+        }
+        if p.feedforward == Feedforward::None
+            && fields.iter().any(|(set, _)| *set == FieldSet::Scatter)
+        {
+            rate = rate.max(p.tracking_gain_per_s * (1.0 + p.viscosity_gain));
+        }
+        Some(rate)
+    }
+
+    fn output_names(&self) -> &'static [&'static str] {
+        OUTPUT_NAMES
+    }
+
+    /// `es_mode`: 0 nominal, 1 warned, 2 returning.
+    fn write_outputs(&self, state: &EsState, values: &mut [f64]) {
+        values[0] = state.mode.code();
+    }
+
+    fn metric_names(&self) -> &'static [&'static str] {
+        METRIC_NAMES
+    }
+
+    /// Formation error, centroid displacement, smallest satellite–threat distance over the recordings so
+    /// far (NaN without the law's threat; the engine's continuous monitor is the authoritative miss
+    /// distance), and the number of live satellites in each mode.
+    fn record_metrics(&mut self, swarm: &SwarmView<'_>, states: &[EsState], values: &mut [f64]) {
+        let (error, displacement) = self.formation_error(swarm);
+        if let Some(d) = self.threat_distance_m(swarm) {
+            self.min_threat_distance_m = self.min_threat_distance_m.min(d);
+        }
+        let mut counts = [0.0; 3];
+        for (s, _) in states.iter().zip(swarm.active).filter(|(_, a)| **a) {
+            counts[s.mode.code() as usize] += 1.0;
+        }
+        values[0] = error;
+        values[1] = displacement;
+        values[2] = if self.min_threat_distance_m.is_finite() {
+            self.min_threat_distance_m
+        } else {
+            f64::NAN
+        };
+        values[3..6].copy_from_slice(&counts);
+    }
+
+    /// `es_strategy`, `es_formation`, `es_nodes_hill_m`, the Eq. 4 attractions (`es_pair_attraction`)
+    /// or the ES solution (`es_avoid`: coefficients, residual, rank, condition number, warnings),
+    /// `es_field_rate_at_nodes_per_s`, final `es_formation_error_m` and `es_centroid_displacement_m`,
+    /// `es_min_threat_distance_m` (over the recordings), and `es_satellites`: per satellite its mode,
+    /// distance to its node and to its node relative to the centroid, speed, the stored warning
+    /// (t_w, virtual sensing radius, K_i, escape direction) and its timeline of switches.
+    fn results(&self, swarm: &SwarmView<'_>, states: &[EsState]) -> BTreeMap<String, Value> {
+        let p = &self.parameters;
+        let t = &self.tables;
+        let n = t.nodes_m.len();
+        let mut out = BTreeMap::new();
+        out.insert("es_strategy".into(), json!(p.strategy.name()));
+        out.insert(
+            "es_formation".into(),
+            json!(match p.formation {
+                Formation::Rhombus => "rhombus",
+                Formation::Hexagon => "hexagon",
+                Formation::Custom => "custom",
+            }),
+        );
+        out.insert(
+            "es_nodes_hill_m".into(),
+            json!(t.nodes_m.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>()),
+        );
+        let fields = desired::fields_of(p.strategy);
+        if fields.iter().any(|(s, _)| *s == FieldSet::Pair) {
+            let pairs: Vec<Value> = shaping::all_pairs(n)
+                .into_iter()
+                .map(|(i, j)| {
+                    let delta = t.distance_m(i, j);
+                    json!({
+                        "pair": [i, j],
+                        "distance_m": delta,
+                        "a_per_s": shaping::pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
+                    })
+                })
+                .collect();
+            out.insert("es_pair_attraction".into(), json!(pairs));
+        }
+        if let Some(s) = &self.avoid {
+            let coefficients: Vec<Value> = s
+                .pairs
+                .iter()
+                .zip(&s.coefficients_per_s)
+                .map(|(&(i, j), b)| {
+                    json!({"pair": [i, j], "distance_m": t.distance_m(i, j), "b_per_s": b})
+                })
+                .collect();
+            out.insert(
+                "es_avoid".into(),
+                json!({
+                    "coefficients": coefficients,
+                    "residual_mps": s.residual,
+                    "rhs_norm_mps": s.rhs_norm,
+                    "rank": s.rank,
+                    "unknowns": s.pairs.len(),
+                    "condition_number": s.condition_number,
+                    "negative_coefficients": s.has_negative_coefficients(),
+                    "ill_conditioned": s.is_ill_conditioned(),
+                }),
+            );
+        }
+        out.insert(
+            "es_field_rate_at_nodes_per_s".into(),
+            json!(self.field_rate_per_s),
+        );
+        let (error, displacement) = self.formation_error(swarm);
+        out.insert("es_formation_error_m".into(), json!(error));
+        out.insert("es_centroid_displacement_m".into(), json!(displacement));
+        out.insert(
+            "es_min_threat_distance_m".into(),
+            json!(self
+                .min_threat_distance_m
+                .is_finite()
+                .then_some(self.min_threat_distance_m)),
+        );
+        let live: Vec<usize> = (0..swarm.len().min(n))
+            .filter(|i| swarm.active[*i])
+            .collect();
+        let centroid_shift = if live.is_empty() {
+            Vector3::zeros()
+        } else {
+            live.iter()
+                .map(|i| swarm.relative_states[*i].position_m - t.nodes_m[*i])
+                .sum::<Vector3<f64>>()
+                / live.len() as f64
+        };
+        let satellites: Vec<Value> = states
+            .iter()
+            .enumerate()
+            .take(n)
+            .map(|(i, s)| {
+                let state = swarm.relative_states[i];
+                let offset = state.position_m - t.nodes_m[i];
+                let timeline: Vec<Value> = s
+                    .timeline
+                    .iter()
+                    .map(|c| match c.event {
+                        ModeEvent::Mode { from, to } => {
+                            json!({"time_s": c.time_s, "event": "mode", "from": from.name(), "to": to.name()})
+                        }
+                        ModeEvent::ThreatSensed => json!({"time_s": c.time_s, "event": "threat-sensed"}),
+                        ModeEvent::ThreatLost => json!({"time_s": c.time_s, "event": "threat-lost"}),
+                    })
+                    .collect();
+                let warning = s.warning.map(|w| {
+                    json!({
+                        "warned_at_s": w.warned_at_s,
+                        "virtual_sensing_radius_m": w.virtual_sensing_radius_m,
+                        "width_m2": w.width_m2,
+                        "escape_direction_hill": [w.escape_direction_hill.x, w.escape_direction_hill.y, w.escape_direction_hill.z],
+                    })
+                });
+                json!({
+                    "id": i,
+                    "active": swarm.active[i],
+                    "mode": s.mode.name(),
+                    "node_distance_m": offset.norm(),
+                    "node_distance_about_centroid_m": (offset - centroid_shift).norm(),
+                    "speed_mps": state.velocity_mps.norm(),
+                    "warning": warning,
+                    "timeline": timeline,
+                })
+            })
+            .collect();
+        out.insert("es_satellites".into(), json!(satellites));
+        out
+    }
+}
