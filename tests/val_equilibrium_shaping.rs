@@ -248,3 +248,365 @@ fn val_n1_singular_and_unreachable_node_sets_are_refused() {
     assert_eq!(shaping::RESIDUAL_TOLERANCE, 1e-9);
 }
 
+
+// ------------------------------------------------------------------------------------------------------
+// Helpers: a hand-made sensing view, and simulations
+// ------------------------------------------------------------------------------------------------------
+
+/// A swarm frozen at one instant, from which the views a law sees are built by hand (truth = navigation,
+/// every satellite live and linked).
+struct Scene {
+    states: Vec<RelativeStateHill>,
+    masses_kg: Vec<f64>,
+    flags: Vec<bool>,
+    grid: NeighbourGrid,
+    threats: Vec<Threat>,
+    warnings: Vec<bool>,
+    range_m: f64,
+}
+
+impl Scene {
+    fn new(states: Vec<RelativeStateHill>, threats: Vec<Threat>, warnings: Vec<bool>) -> Self {
+        let range_m = 100.0;
+        let mut grid = NeighbourGrid::new();
+        let (x, y, z): (Vec<f64>, Vec<f64>, Vec<f64>) = (
+            states.iter().map(|s| s.position_m.x).collect(),
+            states.iter().map(|s| s.position_m.y).collect(),
+            states.iter().map(|s| s.position_m.z).collect(),
+        );
+        grid.build(&x, &y, &z, range_m).unwrap();
+        let count = states.len();
+        Self {
+            states,
+            masses_kg: vec![7.0; count],
+            flags: vec![true; count],
+            grid,
+            threats,
+            warnings,
+            range_m,
+        }
+    }
+
+    fn view(&self, time_s: f64) -> SwarmView<'_> {
+        let earth = EarthModel::WGS84_EGM96;
+        SwarmView {
+            relative_states: &self.states,
+            masses_kg: &self.masses_kg,
+            active: &self.flags,
+            links_up: &self.flags,
+            grid: &self.grid,
+            shared: SharedInfo {
+                time_s,
+                mean_motion_rad_s: n(),
+                sensing_range_m: self.range_m,
+                reference_model: SchweighartSedwick::new(
+                    A_M,
+                    0.0,
+                    earth.mu_m3_s2,
+                    earth.equatorial_radius_m,
+                    0.0,
+                ),
+            },
+            environment: EnvironmentView {
+                threats: &self.threats,
+                obstacles: &[],
+                threat_warnings: &self.warnings,
+            },
+        }
+    }
+}
+
+fn at_rest(positions: &[Vector3<f64>]) -> Vec<RelativeStateHill> {
+    positions
+        .iter()
+        .map(|p| RelativeStateHill {
+            position_m: *p,
+            velocity_mps: Vector3::zeros(),
+        })
+        .collect()
+}
+
+/// A started law (initialised on a scene of its satellites on their nodes, with the given threats).
+fn started_law(p: EquilibriumShapingParameters, threats: &[Threat]) -> EquilibriumShaping {
+    let mut law = EquilibriumShaping::new(p).unwrap();
+    let nodes = law.tables().nodes_m.clone();
+    let warnings = vec![false; threats.len()];
+    let scene = Scene::new(at_rest(&nodes), threats.to_vec(), warnings);
+    let mut states = vec![EsState::default(); nodes.len()];
+    law.initialise(&scene.view(0.0), &mut states).unwrap();
+    law
+}
+
+fn config(
+    dynamics: DynamicsModel,
+    step_s: f64,
+    duration_s: f64,
+    record_interval_s: f64,
+    threats: Vec<Threat>,
+) -> SimulationConfig {
+    let earth = EarthModel::WGS84_EGM96;
+    let elements = KeplerianElements {
+        semi_major_axis_m: A_M,
+        eccentricity: 0.0,
+        inclination_rad: 0.9,
+        raan_rad: 0.0,
+        arg_perigee_rad: 0.0,
+        true_anomaly_rad: 0.0,
+    };
+    SimulationConfig {
+        earth,
+        dynamics,
+        integrator: IntegratorMethod::Rk4,
+        step_s,
+        tolerances: Tolerances {
+            relative: 1e-10,
+            absolute: 1e-9,
+        },
+        control: ControlTiming::Continuous,
+        origin: Origin::VirtualReference,
+        reference: elements.to_cartesian(earth.mu_m3_s2).unwrap(),
+        mean_motion_rad_s: n(),
+        duration_s,
+        record_interval_s,
+        sensing: Sensing {
+            range_m: 100.0,
+            position_noise_m: 0.0,
+            velocity_noise_mps: 0.0,
+        },
+        process_noise_m_s2: 0.0,
+        threats,
+        obstacles: vec![],
+        max_distance_m: 1e6,
+        seed: 11,
+    }
+}
+
+fn satellites(states: &[RelativeStateHill], actuator: Actuator) -> Vec<SatelliteInit> {
+    states
+        .iter()
+        .map(|s| SatelliteInit {
+            relative_state: *s,
+            mass_kg: 7.0,
+            radius_m: 0.1,
+            actuator,
+        })
+        .collect()
+}
+
+/// Every recording: time, states, delta-v, law outputs and metrics, the continuous threat monitor.
+#[derive(Default)]
+struct Collect {
+    times: Vec<f64>,
+    states: Vec<Vec<RelativeStateHill>>,
+    delta_v: Vec<Vec<f64>>,
+    outputs: Vec<Vec<f64>>,
+    metrics: Vec<Vec<f64>>,
+    metric_names: Vec<&'static str>,
+    monitor_min_threat_m: Vec<Option<f64>>,
+}
+
+impl Recorder for Collect {
+    fn record(&mut self, s: &Snapshot<'_>) -> std::io::Result<()> {
+        self.times.push(s.time_s);
+        self.states.push(s.relative_states.to_vec());
+        self.delta_v.push(s.delta_v_mps.to_vec());
+        self.outputs.push(s.law_outputs.to_vec());
+        self.metrics.push(s.law_metrics.to_vec());
+        self.metric_names = s.law_metric_names.to_vec();
+        self.monitor_min_threat_m
+            .push(s.environment.min_threat_distance_m);
+        Ok(())
+    }
+}
+
+impl Collect {
+    fn metric(&self, name: &str) -> Vec<f64> {
+        let k = self.metric_names.iter().position(|m| *m == name).unwrap();
+        self.metrics.iter().map(|m| m[k]).collect()
+    }
+}
+
+/// A threat that passes the aim point `aim` \[m\] at `arrival_s` \[s\] moving along −z at `speed` \[m/s\]
+/// (from +z, spec §6's default geometry).
+fn threat_from_plus_z(aim: Vector3<f64>, speed: f64, arrival_s: f64) -> Threat {
+    Threat::from_aim("threat", aim, -Vector3::z(), speed, arrival_s, 0.0).unwrap()
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The field at the nodes, its rate, and the engine's step check
+// ------------------------------------------------------------------------------------------------------
+
+#[test]
+fn val_field_vanishes_at_the_nodes_through_the_law() {
+    // Every satellite at rest on its node, no threat: the law's own evaluation (neighbour sums over the
+    // grid, node tables) must return v_des = 0 and a zero material derivative for the nominal and
+    // return fields (Eq. 1 and gather/avoid/dock). The individual terms are O(1) m/s (dock 0.6 m/s,
+    // Eq. 1 pair terms 3 m/s), the ES residual ≤ 1e-12: 1e-12 m/s allows rounding only.
+    let cases = [
+        (Strategy::MovingCentroid, Formation::Rhombus, Mode::Nominal),
+        (Strategy::MovingCentroid, Formation::Hexagon, Mode::Warned),
+        (Strategy::FixedCentroid, Formation::Rhombus, Mode::Nominal),
+        (Strategy::FixedCentroid, Formation::Hexagon, Mode::Returning),
+        (Strategy::ScatterGather, Formation::Hexagon, Mode::Returning),
+        (Strategy::Mix, Formation::Rhombus, Mode::Returning),
+    ];
+    for (strategy, formation, mode) in cases {
+        let law = started_law(parameters(strategy, formation), &[]);
+        let scene = Scene::new(at_rest(&law.tables().nodes_m), vec![], vec![]);
+        let view = scene.view(0.0);
+        let state = EsState {
+            mode,
+            ..EsState::default()
+        };
+        for i in 0..scene.states.len() {
+            let d = law.desired_velocity(&view.satellite(i), &state);
+            assert!(
+                d.field_velocity_mps.norm() <= 1e-12,
+                "{strategy:?} {formation:?} {mode:?} satellite {i}: {}",
+                d.field_velocity_mps.norm()
+            );
+            assert_eq!(d.material_derivative_m_s2, Vector3::zeros());
+        }
+    }
+}
+
+#[test]
+fn val_kinematic_field_keeps_a_swarm_on_its_nodes() {
+    // E0's model: the kinematic dynamics follow the commanded field velocity. Started on the rhombus'
+    // nodes with no threat, nothing may move: 100 s of RK4 at 0.05 s leave the satellites where they
+    // were to 1e-12 m (the field is zero there to rounding).
+    let mut p = parameters(Strategy::MovingCentroid, Formation::Rhombus);
+    p.kinematic = true;
+    let law = EquilibriumShaping::new(p).unwrap();
+    let nodes = law.tables().nodes_m.clone();
+    let cfg = config(DynamicsModel::Kinematic, 0.05, 100.0, 50.0, vec![]);
+    let sats = satellites(&at_rest(&nodes), Actuator::new(f64::INFINITY, LimitKind::Norm));
+    let mut sim = Simulation::new(cfg, &sats, Law::new(law), vec![]).unwrap();
+    sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
+    for (s, node) in sim.states_hill().iter().zip(&nodes) {
+        assert!((s.position_m - node).norm() <= 1e-12, "{}", s.position_m - node);
+    }
+}
+
+/// The stacked Jacobian of one field set by central differences of the law's own evaluation: every
+/// satellite on its node, satellite j moved by ±h along axis k.
+fn finite_difference_jacobian(law: &EquilibriumShaping, mode: Mode) -> DMatrix<f64> {
+    let nodes = law.tables().nodes_m.clone();
+    let count = nodes.len();
+    let h = 1e-6;
+    let state = EsState {
+        mode,
+        ..EsState::default()
+    };
+    let field = |positions: &[Vector3<f64>]| -> Vec<Vector3<f64>> {
+        let scene = Scene::new(at_rest(positions), vec![], vec![]);
+        let view = scene.view(0.0);
+        (0..count)
+            .map(|i| law.desired_velocity(&view.satellite(i), &state).field_velocity_mps)
+            .collect()
+    };
+    let mut jac = DMatrix::zeros(3 * count, 3 * count);
+    for j in 0..count {
+        for k in 0..3 {
+            let (mut plus, mut minus) = (nodes.clone(), nodes.clone());
+            plus[j][k] += h;
+            minus[j][k] -= h;
+            let (fp, fm) = (field(&plus), field(&minus));
+            for i in 0..count {
+                for r in 0..3 {
+                    jac[(3 * i + r, 3 * j + k)] = (fp[i][r] - fm[i][r]) / (2.0 * h);
+                }
+            }
+        }
+    }
+    jac
+}
+
+/// Largest |λ| of the symmetric part of `m` (the fields are gradient fields: their stacked Jacobians are
+/// symmetric, and the finite-difference one is up to its error).
+fn spectral_radius(m: &DMatrix<f64>) -> f64 {
+    ((m + m.transpose()) * 0.5)
+        .symmetric_eigenvalues()
+        .iter()
+        .map(|l| l.abs())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn val_field_rate_at_the_nodes_matches_finite_differences() {
+    // The rate the engine checks steps against is |λ_max| of the stacked Jacobian at the nodes, built
+    // from the terms' analytic Jacobians. Reference: central differences (h = 1e-6 m) of the law's
+    // field itself. Truncation O(h² |v'''|) ≈ 1e-12 · (40 1/s · 6⁻² m⁻²) and rounding ε·|v|/h ≈ 1e-9
+    // 1/s against entries up to ~40 1/s: 1e-6 relative to the largest entry is a safe bound.
+    let cases = [
+        (Strategy::MovingCentroid, Formation::Rhombus, Mode::Nominal, FieldSet::Pair),
+        (Strategy::MovingCentroid, Formation::Hexagon, Mode::Nominal, FieldSet::Pair),
+        (Strategy::FixedCentroid, Formation::Rhombus, Mode::Nominal, FieldSet::GatherAvoidDock),
+        (Strategy::FixedCentroid, Formation::Hexagon, Mode::Nominal, FieldSet::GatherAvoidDock),
+        (Strategy::ScatterGather, Formation::Rhombus, Mode::Warned, FieldSet::Scatter),
+    ];
+    for (strategy, formation, mode, set) in cases {
+        let p = parameters(strategy, formation);
+        let law = started_law(p.clone(), &[]);
+        let analytic = desired::stacked_jacobian_at_nodes(&p, law.tables(), set);
+        let numeric = finite_difference_jacobian(&law, mode);
+        let scale = analytic.amax();
+        let err = (&analytic - &numeric).amax();
+        assert!(err <= 1e-6 * scale, "{strategy:?} {formation:?}: {err:e} of {scale}");
+        let asymmetry = (&analytic - analytic.transpose()).amax();
+        assert!(asymmetry <= 1e-14 * scale, "not a gradient field: {asymmetry:e}");
+        let rate = desired::field_rate_at_nodes_per_s(&p, law.tables(), set);
+        let reference = spectral_radius(&numeric);
+        assert_rel(rate, reference, 1e-6, &format!("{strategy:?} {formation:?} rate"));
+        println!("{strategy:?} {formation:?} {set:?}: |λ_max| = {rate:.4} 1/s");
+    }
+    // The strategy's rate is the largest over its fields; with a threat term the threat's gradient
+    // bound A √(2/K) e^(−1/2) is included too (40 m/s, K = 22.2 m²: 7.28 1/s).
+    let s1 = EquilibriumShaping::new(parameters(Strategy::ScatterGather, Formation::Rhombus)).unwrap();
+    let s3 = EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Rhombus)).unwrap();
+    assert_eq!(s1.field_rate_at_nodes_per_s(), s3.field_rate_at_nodes_per_s());
+    let k2 = 2.0 * (10.0f64 / 3.0).powi(2);
+    let bound = 40.0 * (2.0 / k2).sqrt() * (-0.5f64).exp();
+    assert_rel(bound, 7.2790, 1e-4, "threat bound");
+    let eq1 = EquilibriumShaping::new(parameters(Strategy::MovingCentroid, Formation::Rhombus)).unwrap();
+    assert_eq!(
+        eq1.fastest_rate_per_s(7.0),
+        Some(eq1.field_rate_at_nodes_per_s().max(bound))
+    );
+}
+
+#[test]
+fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
+    // Gather/avoid/dock on the rhombus: |λ_max| ≈ 42 1/s, so RK4 needs h < 1.4/42 ≈ 0.033 s and a
+    // zero-order hold T < 1/42 s. The engine names both numbers.
+    let law = EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Rhombus)).unwrap();
+    let rate = law.fastest_rate_per_s(7.0).unwrap();
+    let nodes = law.tables().nodes_m.clone();
+    let sats = satellites(&at_rest(&nodes), Actuator::new(1.4e-3, LimitKind::PerAxis));
+    let hcw = DynamicsModel::Hcw(Hcw::new(n()));
+    let err = Simulation::new(config(hcw, 0.1, 10.0, 10.0, vec![]), &sats, Law::new(law.clone()), vec![])
+        .err()
+        .expect("a 0.1 s RK4 step was accepted");
+    match &err {
+        SimError::StepTooLong {
+            step_s,
+            rate_per_s,
+            limit_s,
+            ..
+        } => {
+            assert_eq!((*step_s, *rate_per_s), (0.1, rate));
+            assert_rel(*limit_s, 1.4 / rate, 1e-12, "limit");
+        }
+        other => panic!("wrong error: {other}"),
+    }
+    let message = err.to_string();
+    assert!(message.contains("0.1 s") && message.contains(&format!("{rate:.4}")), "{message}");
+    let mut cfg = config(hcw, 0.01, 10.0, 10.0, vec![]);
+    cfg.control = ControlTiming::Sampled { period_s: 0.5 };
+    assert!(matches!(
+        Simulation::new(cfg, &sats, Law::new(law.clone()), vec![]),
+        Err(SimError::ControlPeriodTooLong { .. })
+    ));
+    // Within the bound: accepted.
+    assert!(Simulation::new(config(hcw, 0.02, 10.0, 10.0, vec![]), &sats, Law::new(law), vec![]).is_ok());
+}
