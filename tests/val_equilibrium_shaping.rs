@@ -130,7 +130,11 @@ fn val_n1_rhombus_min_norm_matches_hand_solution_and_spec() {
     // Residual: spec N1 asks ≤ 1e-12 (absolute, m/s); |r| ≈ 0.5 m/s, so this is ~1e-12 relative,
     // a few thousand ulps of the largest column entries — rounding only.
     assert!(s.residual <= 1e-12, "residual {:e}", s.residual);
-    assert_eq!((s.rank, s.pairs.len()), (5, 6), "rank 5 of 6 unknowns (spec §3.8)");
+    assert_eq!(
+        (s.rank, s.pairs.len()),
+        (5, 6),
+        "rank 5 of 6 unknowns (spec §3.8)"
+    );
     // Pairs: (0,1) long diagonal, (2,3) short diagonal, the other four sides.
     let side = [(0, 2), (0, 3), (1, 2), (1, 3)].map(|(i, j)| s.coefficient_per_s(i, j));
     let (short, far) = (s.coefficient_per_s(2, 3), s.coefficient_per_s(0, 1));
@@ -156,7 +160,11 @@ fn val_n1_hexagon_min_norm_matches_hand_solution_and_spec() {
     let g = paper_gains();
     let s = solve_avoid_coefficients(&nodes, &g).unwrap();
     assert!(s.residual <= 1e-12, "residual {:e}", s.residual);
-    assert_eq!((s.rank, s.pairs.len()), (9, 15), "rank 9 of 15 unknowns (spec §3.8)");
+    assert_eq!(
+        (s.rank, s.pairs.len()),
+        (9, 15),
+        "rank 9 of 15 unknowns (spec §3.8)"
+    );
     let hand = hexagon_min_norm_by_hand(6.0, &g);
     for (i, j) in all_pairs(6) {
         let hops = (j - i).min(6 - (j - i));
@@ -165,15 +173,35 @@ fn val_n1_hexagon_min_norm_matches_hand_solution_and_spec() {
         // opposite columns are e^-12 and e^-18 smaller, and their coefficients carry a larger relative
         // SVD error (measured 9e-9 for the opposite pairs): the spec's 1e-6.
         let tol = if hops == 1 { 1e-9 } else { 1e-6 };
-        assert_rel(b, hand[hops - 1], tol, &format!("pair ({i},{j}) vs the hand solution"));
+        assert_rel(
+            b,
+            hand[hops - 1],
+            tol,
+            &format!("pair ({i},{j}) vs the hand solution"),
+        );
     }
     assert_printed(s.coefficient_per_s(0, 1), 47.7805, 1e-4, "adjacent (spec)");
-    assert_printed(s.coefficient_per_s(0, 2), 8.807e-4, 1e-7, "second neighbour (spec)");
+    assert_printed(
+        s.coefficient_per_s(0, 2),
+        8.807e-4,
+        1e-7,
+        "second neighbour (spec)",
+    );
     assert_printed(s.coefficient_per_s(0, 3), 2.911e-6, 1e-9, "opposite (spec)");
     // The spec's symmetry check: b₂/b₁ = 3e^-12, b_opp/b₁ = 4e^-18 (exact for the minimum norm).
     let b1 = s.coefficient_per_s(0, 1);
-    assert_rel(s.coefficient_per_s(0, 2) / b1, 3.0 * (-12f64).exp(), 1e-6, "b₂/b₁");
-    assert_rel(s.coefficient_per_s(0, 3) / b1, 4.0 * (-18f64).exp(), 1e-6, "b_opp/b₁");
+    assert_rel(
+        s.coefficient_per_s(0, 2) / b1,
+        3.0 * (-12f64).exp(),
+        1e-6,
+        "b₂/b₁",
+    );
+    assert_rel(
+        s.coefficient_per_s(0, 3) / b1,
+        4.0 * (-18f64).exp(),
+        1e-6,
+        "b_opp/b₁",
+    );
 }
 
 #[test]
@@ -182,12 +210,42 @@ fn val_n1_closed_forms_and_eq4_match_spec_and_cancel_pairwise() {
     let l = 6.0;
     let long = l * 3f64.sqrt();
     // Printed values (spec §3.8 and §3.1).
-    assert_printed(closed_form_avoid_per_s(l, &g), 41.2966, 1e-4, "closed form, 6 m");
-    assert_printed(closed_form_avoid_per_s(long, &g), 2.1107e5, 1e1, "closed form, 10.39 m");
-    assert_printed(closed_form_avoid_per_s(12.0, &g), 8.51e7, 1e5, "closed form, 12 m");
-    assert_printed(pair_attraction_per_s(l, 20.0, 10.0), 0.546474, 1e-6, "Eq. 4, 6 m");
-    assert_printed(pair_attraction_per_s(long, 20.0, 10.0), 4.0799e-4, 1e-8, "Eq. 4, 10.39 m");
-    assert_printed(pair_attraction_per_s(12.0, 20.0, 10.0), 1.1148e-5, 1e-9, "Eq. 4, 12 m");
+    assert_printed(
+        closed_form_avoid_per_s(l, &g),
+        41.2966,
+        1e-4,
+        "closed form, 6 m",
+    );
+    assert_printed(
+        closed_form_avoid_per_s(long, &g),
+        2.1107e5,
+        1e1,
+        "closed form, 10.39 m",
+    );
+    assert_printed(
+        closed_form_avoid_per_s(12.0, &g),
+        8.51e7,
+        1e5,
+        "closed form, 12 m",
+    );
+    assert_printed(
+        pair_attraction_per_s(l, 20.0, 10.0),
+        0.546474,
+        1e-6,
+        "Eq. 4, 6 m",
+    );
+    assert_printed(
+        pair_attraction_per_s(long, 20.0, 10.0),
+        4.0799e-4,
+        1e-8,
+        "Eq. 4, 10.39 m",
+    );
+    assert_printed(
+        pair_attraction_per_s(12.0, 20.0, 10.0),
+        1.1148e-5,
+        1e-9,
+        "Eq. 4, 12 m",
+    );
     // The closed form is an exact solution too: assembled into A p = r it leaves only rounding
     // (relative to |r|; the long-diagonal coefficient is 2e5, so the scale is |A|·|p|, not |r|).
     for formation in [Formation::Rhombus, Formation::Hexagon] {
@@ -201,7 +259,10 @@ fn val_n1_closed_forms_and_eq4_match_spec_and_cancel_pairwise() {
         let p = nalgebra::DVector::from_vec(p);
         let residual = (&system.matrix * &p - &system.rhs).norm();
         let scale = system.matrix.abs().max() * p.amax();
-        assert!(residual <= 1e-14 * scale, "{formation:?}: {residual:e} vs {scale:e}");
+        assert!(
+            residual <= 1e-14 * scale,
+            "{formation:?}: {residual:e} vs {scale:e}"
+        );
     }
 }
 
@@ -224,7 +285,10 @@ fn val_n1_singular_and_unreachable_node_sets_are_refused() {
     let mut p = parameters(Strategy::MovingCentroid, Formation::Custom);
     p.nodes_hill_m = Some(nodes.iter().map(|v| [v.x, v.y, v.z]).collect());
     let err = EquilibriumShaping::new(p).unwrap_err().to_string();
-    assert!(err.contains("nodes_hill_m") && err.contains("coincide"), "{err}");
+    assert!(
+        err.contains("nodes_hill_m") && err.contains("coincide"),
+        "{err}"
+    );
     // An unreachable system: a triangle whose pair (1, 2) has no free coefficient (as if the two could
     // not sense each other). Satellite 1's gather/dock pull has a component along ξ₁ − ξ₂, which only
     // the missing pair could balance, so the least-squares residual is of the order of |r|.
@@ -247,7 +311,6 @@ fn val_n1_singular_and_unreachable_node_sets_are_refused() {
     assert!(s.residual <= 1e-12 * s.rhs_norm.max(1.0));
     assert_eq!(shaping::RESIDUAL_TOLERANCE, 1e-9);
 }
-
 
 // ------------------------------------------------------------------------------------------------------
 // Helpers: a hand-made sensing view, and simulations
@@ -480,11 +543,18 @@ fn val_kinematic_field_keeps_a_swarm_on_its_nodes() {
     let law = EquilibriumShaping::new(p).unwrap();
     let nodes = law.tables().nodes_m.clone();
     let cfg = config(DynamicsModel::Kinematic, 0.05, 100.0, 50.0, vec![]);
-    let sats = satellites(&at_rest(&nodes), Actuator::new(f64::INFINITY, LimitKind::Norm));
+    let sats = satellites(
+        &at_rest(&nodes),
+        Actuator::new(f64::INFINITY, LimitKind::Norm),
+    );
     let mut sim = Simulation::new(cfg, &sats, Law::new(law), vec![]).unwrap();
     sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
     for (s, node) in sim.states_hill().iter().zip(&nodes) {
-        assert!((s.position_m - node).norm() <= 1e-12, "{}", s.position_m - node);
+        assert!(
+            (s.position_m - node).norm() <= 1e-12,
+            "{}",
+            s.position_m - node
+        );
     }
 }
 
@@ -502,7 +572,10 @@ fn finite_difference_jacobian(law: &EquilibriumShaping, mode: Mode) -> DMatrix<f
         let scene = Scene::new(at_rest(positions), vec![], vec![]);
         let view = scene.view(0.0);
         (0..count)
-            .map(|i| law.desired_velocity(&view.satellite(i), &state).field_velocity_mps)
+            .map(|i| {
+                law.desired_velocity(&view.satellite(i), &state)
+                    .field_velocity_mps
+            })
             .collect()
     };
     let mut jac = DMatrix::zeros(3 * count, 3 * count);
@@ -539,11 +612,36 @@ fn val_field_rate_at_the_nodes_matches_finite_differences() {
     // field itself. Truncation O(h² |v'''|) ≈ 1e-12 · (40 1/s · 6⁻² m⁻²) and rounding ε·|v|/h ≈ 1e-9
     // 1/s against entries up to ~40 1/s: 1e-6 relative to the largest entry is a safe bound.
     let cases = [
-        (Strategy::MovingCentroid, Formation::Rhombus, Mode::Nominal, FieldSet::Pair),
-        (Strategy::MovingCentroid, Formation::Hexagon, Mode::Nominal, FieldSet::Pair),
-        (Strategy::FixedCentroid, Formation::Rhombus, Mode::Nominal, FieldSet::GatherAvoidDock),
-        (Strategy::FixedCentroid, Formation::Hexagon, Mode::Nominal, FieldSet::GatherAvoidDock),
-        (Strategy::ScatterGather, Formation::Rhombus, Mode::Warned, FieldSet::Scatter),
+        (
+            Strategy::MovingCentroid,
+            Formation::Rhombus,
+            Mode::Nominal,
+            FieldSet::Pair,
+        ),
+        (
+            Strategy::MovingCentroid,
+            Formation::Hexagon,
+            Mode::Nominal,
+            FieldSet::Pair,
+        ),
+        (
+            Strategy::FixedCentroid,
+            Formation::Rhombus,
+            Mode::Nominal,
+            FieldSet::GatherAvoidDock,
+        ),
+        (
+            Strategy::FixedCentroid,
+            Formation::Hexagon,
+            Mode::Nominal,
+            FieldSet::GatherAvoidDock,
+        ),
+        (
+            Strategy::ScatterGather,
+            Formation::Rhombus,
+            Mode::Warned,
+            FieldSet::Scatter,
+        ),
     ];
     for (strategy, formation, mode, set) in cases {
         let p = parameters(strategy, formation);
@@ -552,23 +650,40 @@ fn val_field_rate_at_the_nodes_matches_finite_differences() {
         let numeric = finite_difference_jacobian(&law, mode);
         let scale = analytic.amax();
         let err = (&analytic - &numeric).amax();
-        assert!(err <= 1e-6 * scale, "{strategy:?} {formation:?}: {err:e} of {scale}");
+        assert!(
+            err <= 1e-6 * scale,
+            "{strategy:?} {formation:?}: {err:e} of {scale}"
+        );
         let asymmetry = (&analytic - analytic.transpose()).amax();
-        assert!(asymmetry <= 1e-14 * scale, "not a gradient field: {asymmetry:e}");
+        assert!(
+            asymmetry <= 1e-14 * scale,
+            "not a gradient field: {asymmetry:e}"
+        );
         let rate = desired::field_rate_at_nodes_per_s(&p, law.tables(), set);
         let reference = spectral_radius(&numeric);
-        assert_rel(rate, reference, 1e-6, &format!("{strategy:?} {formation:?} rate"));
+        assert_rel(
+            rate,
+            reference,
+            1e-6,
+            &format!("{strategy:?} {formation:?} rate"),
+        );
         println!("{strategy:?} {formation:?} {set:?}: |λ_max| = {rate:.4} 1/s");
     }
     // The strategy's rate is the largest over its fields; with a threat term the threat's gradient
     // bound A √(2/K) e^(−1/2) is included too (40 m/s, K = 22.2 m²: 7.28 1/s).
-    let s1 = EquilibriumShaping::new(parameters(Strategy::ScatterGather, Formation::Rhombus)).unwrap();
-    let s3 = EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Rhombus)).unwrap();
-    assert_eq!(s1.field_rate_at_nodes_per_s(), s3.field_rate_at_nodes_per_s());
+    let s1 =
+        EquilibriumShaping::new(parameters(Strategy::ScatterGather, Formation::Rhombus)).unwrap();
+    let s3 =
+        EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Rhombus)).unwrap();
+    assert_eq!(
+        s1.field_rate_at_nodes_per_s(),
+        s3.field_rate_at_nodes_per_s()
+    );
     let k2 = 2.0 * (10.0f64 / 3.0).powi(2);
     let bound = 40.0 * (2.0 / k2).sqrt() * (-0.5f64).exp();
     assert_rel(bound, 7.2790, 1e-4, "threat bound");
-    let eq1 = EquilibriumShaping::new(parameters(Strategy::MovingCentroid, Formation::Rhombus)).unwrap();
+    let eq1 =
+        EquilibriumShaping::new(parameters(Strategy::MovingCentroid, Formation::Rhombus)).unwrap();
     assert_eq!(
         eq1.fastest_rate_per_s(7.0),
         Some(eq1.field_rate_at_nodes_per_s().max(bound))
@@ -579,14 +694,20 @@ fn val_field_rate_at_the_nodes_matches_finite_differences() {
 fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
     // Gather/avoid/dock on the rhombus: |λ_max| ≈ 42 1/s, so RK4 needs h < 1.4/42 ≈ 0.033 s and a
     // zero-order hold T < 1/42 s. The engine names both numbers.
-    let law = EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Rhombus)).unwrap();
+    let law =
+        EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Rhombus)).unwrap();
     let rate = law.fastest_rate_per_s(7.0).unwrap();
     let nodes = law.tables().nodes_m.clone();
     let sats = satellites(&at_rest(&nodes), Actuator::new(1.4e-3, LimitKind::PerAxis));
     let hcw = DynamicsModel::Hcw(Hcw::new(n()));
-    let err = Simulation::new(config(hcw, 0.1, 10.0, 10.0, vec![]), &sats, Law::new(law.clone()), vec![])
-        .err()
-        .expect("a 0.1 s RK4 step was accepted");
+    let err = Simulation::new(
+        config(hcw, 0.1, 10.0, 10.0, vec![]),
+        &sats,
+        Law::new(law.clone()),
+        vec![],
+    )
+    .err()
+    .expect("a 0.1 s RK4 step was accepted");
     match &err {
         SimError::StepTooLong {
             step_s,
@@ -600,7 +721,10 @@ fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
         other => panic!("wrong error: {other}"),
     }
     let message = err.to_string();
-    assert!(message.contains("0.1 s") && message.contains(&format!("{rate:.4}")), "{message}");
+    assert!(
+        message.contains("0.1 s") && message.contains(&format!("{rate:.4}")),
+        "{message}"
+    );
     let mut cfg = config(hcw, 0.01, 10.0, 10.0, vec![]);
     cfg.control = ControlTiming::Sampled { period_s: 0.5 };
     assert!(matches!(
@@ -608,5 +732,875 @@ fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
         Err(SimError::ControlPeriodTooLong { .. })
     ));
     // Within the bound: accepted.
-    assert!(Simulation::new(config(hcw, 0.02, 10.0, 10.0, vec![]), &sats, Law::new(law), vec![]).is_ok());
+    assert!(Simulation::new(
+        config(hcw, 0.02, 10.0, 10.0, vec![]),
+        &sats,
+        Law::new(law),
+        vec![]
+    )
+    .is_ok());
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The analytic feed-forward
+// ------------------------------------------------------------------------------------------------------
+
+/// Known trajectories x_i(t) = x_i + u_i t + w_i t²/2.
+struct Trajectories {
+    start_m: Vec<Vector3<f64>>,
+    velocity_mps: Vec<Vector3<f64>>,
+    acceleration_m_s2: Vec<Vector3<f64>>,
+}
+
+impl Trajectories {
+    /// Around `centres`, with fixed, distinct velocities and accelerations per satellite.
+    fn around(centres: &[Vector3<f64>]) -> Self {
+        let count = centres.len();
+        let f = |i: usize, a: f64, b: f64, c: f64| {
+            let s = i as f64 + 1.0;
+            Vector3::new((a * s).sin(), (b * s).cos(), (c * s).sin())
+        };
+        Self {
+            start_m: (0..count)
+                .map(|i| centres[i] + 0.3 * f(i, 1.1, 2.3, 0.7))
+                .collect(),
+            velocity_mps: (0..count).map(|i| 0.08 * f(i, 0.5, 1.9, 2.9)).collect(),
+            acceleration_m_s2: (0..count).map(|i| 0.02 * f(i, 2.2, 0.4, 1.3)).collect(),
+        }
+    }
+
+    fn states(&self, t: f64) -> Vec<RelativeStateHill> {
+        (0..self.start_m.len())
+            .map(|i| RelativeStateHill {
+                position_m: self.start_m[i]
+                    + self.velocity_mps[i] * t
+                    + 0.5 * self.acceleration_m_s2[i] * t * t,
+                velocity_mps: self.velocity_mps[i] + self.acceleration_m_s2[i] * t,
+            })
+            .collect()
+    }
+}
+
+/// Compares the law's analytic rate of change of v_des along the trajectories (its material derivative
+/// minus ν·ẍ for the viscosity's own-velocity part) with a central difference of v_des(t) = v_f − ν v,
+/// h = 1e-5 s: truncation h²/6 · |d³v_des/dt³| ≲ 1e-7 m/s² for rates up to 40 1/s and speeds of
+/// 0.1 m/s, rounding ε |v_des| / h ≈ 1e-10 m/s²; 1e-6 of the largest component plus 1e-9 m/s² bounds
+/// both (measured: at most 1.8e-9 m/s², 1e-9 relative). Returns the largest analytic magnitude (to show
+/// the check was not vacuous).
+fn check_feedforward(
+    law: &EquilibriumShaping,
+    states: &[EsState],
+    paths: &Trajectories,
+    threats: &[Threat],
+    warnings: &[bool],
+    t0: f64,
+    what: &str,
+) -> f64 {
+    let h = 1e-5;
+    let v_des = |t: f64, i: usize| {
+        let scene = Scene::new(paths.states(t), threats.to_vec(), warnings.to_vec());
+        let view = scene.view(t);
+        let d = law.desired_velocity(&view.satellite(i), &states[i]);
+        (d, d.velocity_mps(&paths.states(t)[i].velocity_mps))
+    };
+    let mut largest: f64 = 0.0;
+    for i in 0..states.len() {
+        let (d, _) = v_des(t0, i);
+        let analytic =
+            d.material_derivative_m_s2 - d.viscosity.coefficient * paths.acceleration_m_s2[i];
+        let numeric = (v_des(t0 + h, i).1 - v_des(t0 - h, i).1) / (2.0 * h);
+        let scale = analytic.amax().max(numeric.amax());
+        assert!(
+            (analytic - numeric).amax() <= 1e-6 * scale + 1e-9,
+            "{what}, satellite {i}: analytic {analytic} vs finite difference {numeric}"
+        );
+        largest = largest.max(analytic.norm());
+    }
+    largest
+}
+
+/// Largest change of the material derivative that the threat term makes (to show it is exercised).
+fn threat_share(
+    law: &EquilibriumShaping,
+    states: &[EsState],
+    paths: &Trajectories,
+    threats: &[Threat],
+    warnings: &[bool],
+    t0: f64,
+) -> f64 {
+    let with = Scene::new(paths.states(t0), threats.to_vec(), warnings.to_vec());
+    let without = Scene::new(paths.states(t0), vec![], vec![]);
+    (0..states.len())
+        .map(|i| {
+            let bare = EsState {
+                warning: None,
+                threat_sensed: false,
+                ..states[i].clone()
+            };
+            let a = law.desired_velocity(&with.view(t0).satellite(i), &states[i]);
+            let b = law.desired_velocity(&without.view(t0).satellite(i), &bare);
+            (a.material_derivative_m_s2 - b.material_derivative_m_s2).norm()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
+    let t0 = 2.0;
+    // (a) S2 NOMINAL: Eq. 1 + the physically sensed threat (parallel), a threat 6 m from satellite 0
+    // moving along −z.
+    let p = parameters(Strategy::MovingCentroid, Formation::Rhombus);
+    let nodes = p.nodes_hill_m();
+    let threat = Threat::from_state(
+        "t",
+        t0,
+        nodes[0] + Vector3::new(0.7, -0.4, 6.0),
+        Vector3::new(0.1, 0.05, -1.0),
+        0.0,
+    )
+    .unwrap();
+    let law = started_law(p, std::slice::from_ref(&threat));
+    let sensed = EsState {
+        threat_sensed: true,
+        ..EsState::default()
+    };
+    let paths = Trajectories::around(&nodes);
+    let sensed = vec![sensed; 4];
+    let a = check_feedforward(
+        &law,
+        &sensed,
+        &paths,
+        &[threat.clone()],
+        &[false],
+        t0,
+        "S2 nominal",
+    );
+    assert!(a > 0.1, "{a}");
+    assert!(threat_share(&law, &sensed, &paths, &[threat], &[false], t0) > 1e-3);
+
+    // (b) S2 WARNED (perp-common, seeded) and (c) S3 WARNED (perp-radial): the warned threat on its
+    // on-board track, K_i from each satellite's virtual sensing radius at t_w = 0.5 s.
+    for (strategy, escape, formation) in [
+        (
+            Strategy::MovingCentroid,
+            Escape::PerpCommon,
+            Formation::Rhombus,
+        ),
+        (
+            Strategy::FixedCentroid,
+            Escape::PerpRadial,
+            Formation::Hexagon,
+        ),
+        (Strategy::Mix, Escape::PerpCommon, Formation::Hexagon),
+    ] {
+        let mut p = parameters(strategy, formation);
+        p.escape = escape;
+        let nodes = p.nodes_hill_m();
+        let threat = Threat::from_state(
+            "t",
+            0.5,
+            nodes[0] + Vector3::new(1.0, 2.0, 14.0),
+            Vector3::new(0.0, 0.3, -2.0),
+            0.0,
+        )
+        .unwrap();
+        let law = started_law(p, std::slice::from_ref(&threat));
+        let paths = Trajectories::around(&nodes);
+        let settings = law.machine_settings();
+        let states: Vec<EsState> = paths
+            .states(0.5)
+            .iter()
+            .map(|s| {
+                next_state(
+                    &EsState::default(),
+                    &Observation {
+                        time_s: 0.5,
+                        own_position_hill_m: s.position_m,
+                        warned_threat_hill: Some((
+                            threat.position_hill_m(0.5),
+                            threat.velocity_hill_mps(),
+                        )),
+                        sensed_threat_distance_m: None,
+                        pair_rms_error_m: 0.0,
+                        max_speed_mps: 0.0,
+                    },
+                    &settings,
+                )
+            })
+            .collect();
+        assert!(states.iter().all(|s| s.mode == Mode::Warned));
+        let a = check_feedforward(
+            &law,
+            &states,
+            &paths,
+            &[threat.clone()],
+            &[true],
+            t0,
+            &format!("{strategy:?} warned"),
+        );
+        assert!(a > 0.1, "{a}");
+        let share = threat_share(&law, &states, &paths, &[threat], &[true], t0);
+        assert!(share > 1e-3, "{strategy:?}: threat share {share}");
+    }
+
+    // (d) S4 RETURNING: gather/avoid/dock + the physically sensed threat (perp-common, given direction).
+    let mut p = parameters(Strategy::Mix, Formation::Rhombus);
+    p.escape = Escape::PerpCommon;
+    p.escape_direction_hill = Some([1.0, 1.0, 0.3]);
+    let nodes = p.nodes_hill_m();
+    let threat = Threat::from_state(
+        "t",
+        t0,
+        nodes[2] + Vector3::new(2.0, 1.0, 4.0),
+        Vector3::new(0.0, 0.0, -1.5),
+        0.0,
+    )
+    .unwrap();
+    let law = started_law(p, std::slice::from_ref(&threat));
+    let returning = EsState {
+        mode: Mode::Returning,
+        threat_sensed: true,
+        ..EsState::default()
+    };
+    let paths = Trajectories::around(&nodes);
+    let returning = vec![returning; 4];
+    let a = check_feedforward(
+        &law,
+        &returning,
+        &paths,
+        &[threat.clone()],
+        &[false],
+        t0,
+        "S4 returning",
+    );
+    assert!(a > 0.1, "{a}");
+    assert!(threat_share(&law, &returning, &paths, &[threat], &[false], t0) > 1e-3);
+
+    // (e) S1 WARNED: Lennard-Jones + scatter + viscosity, the rhombus lifted 19.1 m along +z so the apex
+    // satellites sit 0.2 m inside the 20 m sphere (in the viscosity band) and the others outside it.
+    let p = parameters(Strategy::ScatterGather, Formation::Rhombus);
+    let nodes = p.nodes_hill_m();
+    let lifted: Vec<Vector3<f64>> = nodes
+        .iter()
+        .map(|v| v + Vector3::new(0.0, 0.0, 19.106))
+        .collect();
+    let law = started_law(p, &[]);
+    let warned = EsState {
+        mode: Mode::Warned,
+        ..EsState::default()
+    };
+    let mut paths = Trajectories::around(&lifted);
+    paths.start_m = lifted.clone(); // start exactly there (the offsets would leave the band)
+    let at_t0 = paths.states(t0);
+    let scene = Scene::new(at_t0.clone(), vec![], vec![]);
+    let in_band = (0..4)
+        .filter(|i| {
+            law.desired_velocity(&scene.view(t0).satellite(*i), &warned)
+                .viscosity
+                .coefficient
+                > 0.0
+        })
+        .count();
+    assert!(in_band >= 1, "no satellite in the viscosity band");
+    let a = check_feedforward(&law, &vec![warned; 4], &paths, &[], &[], t0, "S1 warned");
+    assert!(a > 1e-3, "{a}");
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The dynamic layer in closed loop
+// ------------------------------------------------------------------------------------------------------
+
+#[test]
+fn val_holding_the_nodes_costs_exactly_the_hcw_offset_acceleration() {
+    // On its node the field is zero and the satellite at rest, so the command is u = −a_in =
+    // (−3n²x, 0, 0): Δv_i = 3n²|ξ_x,i| T exactly and nobody moves. For the rhombus over 200 s the mean
+    // is 1.81e-3 m/s (spec §4.1: "≈ 0.002 m/s per 200 s"). Continuous RK4 at 0.02 s on HCW truth; the
+    // ledger of a constant command is exact to rounding (1e-9 relative allowed), positions to 1e-9 m.
+    let duration = 200.0;
+    for strategy in [Strategy::MovingCentroid, Strategy::FixedCentroid] {
+        let law = EquilibriumShaping::new(parameters(strategy, Formation::Rhombus)).unwrap();
+        let nodes = law.tables().nodes_m.clone();
+        let cfg = config(
+            DynamicsModel::Hcw(Hcw::new(n())),
+            0.02,
+            duration,
+            duration,
+            vec![],
+        );
+        let sats = satellites(&at_rest(&nodes), Actuator::new(1.4e-3, LimitKind::PerAxis));
+        let mut sim = Simulation::new(cfg, &sats, Law::new(law), vec![]).unwrap();
+        let mut rec = Collect::default();
+        sim.run(&mut rec, &mut |_| {}).unwrap();
+        let dv = rec.delta_v.last().unwrap();
+        let mut mean = 0.0;
+        for (i, node) in nodes.iter().enumerate() {
+            let expected = 3.0 * n() * n() * node.x.abs() * duration;
+            assert!(
+                (dv[i] - expected).abs() <= 1e-9 * expected + 1e-15,
+                "{strategy:?} satellite {i}: Δv {} vs {expected}",
+                dv[i]
+            );
+            assert!((sim.states_hill()[i].position_m - node).norm() <= 1e-9);
+            mean += dv[i] / 4.0;
+        }
+        assert!((mean - 1.81e-3).abs() < 5e-6, "mean Δv {mean}");
+    }
+}
+
+/// The tracking error e = v_des − v of every satellite at every recording, from the law's own field
+/// evaluated on the recorded truth states with the state `state_of(i, t)`.
+fn tracking_errors(
+    law: &EquilibriumShaping,
+    rec: &Collect,
+    threats: &[Threat],
+    warnings: &[bool],
+    state_of: &dyn Fn(usize) -> EsState,
+) -> Vec<Vec<Vector3<f64>>> {
+    rec.times
+        .iter()
+        .zip(&rec.states)
+        .map(|(t, states)| {
+            let scene = Scene::new(states.clone(), threats.to_vec(), warnings.to_vec());
+            let view = scene.view(*t);
+            (0..states.len())
+                .map(|i| {
+                    let d = law.desired_velocity(&view.satellite(i), &state_of(i));
+                    d.velocity_mps(&states[i].velocity_mps) - states[i].velocity_mps
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Checks e(t) = e(t₁) e^(−k (t − t₁)) from the second recording t₁ on (the first tick has its
+/// feed-forward suppressed by the start-up switch); returns the largest deviation relative to |e(t₁)|.
+fn assert_exponential(
+    errors: &[Vec<Vector3<f64>>],
+    times: &[f64],
+    k: f64,
+    tol: f64,
+    what: &str,
+) -> f64 {
+    let mut worst: f64 = 0.0;
+    for i in 0..errors[0].len() {
+        let e1 = errors[1][i];
+        assert!(
+            e1.norm() > 1e-3,
+            "{what}: satellite {i} starts with no tracking error"
+        );
+        for (t, e) in times.iter().zip(errors).skip(1) {
+            let expected = e1 * (-k * (t - times[1])).exp();
+            let deviation = (e[i] - expected).norm() / e1.norm();
+            worst = worst.max(deviation);
+            assert!(
+                deviation <= tol,
+                "{what}: satellite {i} at {t} s: {} vs {expected}",
+                e[i]
+            );
+        }
+    }
+    worst
+}
+
+#[test]
+fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
+    // With the analytic feed-forward and the HCW drift cancelled on HCW truth, the tracking error obeys
+    // ė = −k e exactly (before saturation): v̇ = k e + a_ff with a_ff = dv_des/dt along the motion.
+    // That only holds if a_ff is the true material derivative of the whole field, neighbours' motion
+    // and the threat's included, and (S1) if the viscosity's −ν v̇ is resolved as documented. Any
+    // missing term shows as a deviation from e^(−kt) of the order of that term over k. Uncapped, 60 s,
+    // RK4 at 5 ms: the integration error of e relative to |e(t₁)| is ~1e-12 (measured: 7.3e-13 S2,
+    // 7.8e-13 S3, 1.1e-12 S1); 1e-9 leaves room for other platforms and still separates it from a
+    // missing term by orders of magnitude.
+    let k = 0.05;
+    let hcw = DynamicsModel::Hcw(Hcw::new(n()));
+    let free = Actuator::new(f64::INFINITY, LimitKind::Norm);
+
+    // (a) S2 NOMINAL, rhombus displaced from its nodes and moving: Eq. 1 couples the satellites.
+    let law =
+        EquilibriumShaping::new(parameters(Strategy::MovingCentroid, Formation::Rhombus)).unwrap();
+    let nodes = law.tables().nodes_m.clone();
+    let paths = Trajectories::around(&nodes);
+    // 0.1 of the trajectories' offsets from the nodes (3 cm), their velocities (≤ 8 cm/s).
+    let start: Vec<RelativeStateHill> = paths
+        .states(0.0)
+        .iter()
+        .zip(&nodes)
+        .map(|(s, node)| RelativeStateHill {
+            position_m: node + (s.position_m - node) * 0.1,
+            velocity_mps: s.velocity_mps,
+        })
+        .collect();
+    let cfg = config(hcw, 0.005, 60.0, 5.0, vec![]);
+    let mut sim = Simulation::new(
+        cfg,
+        &satellites(&start, free),
+        Law::new(law.clone()),
+        vec![],
+    )
+    .unwrap();
+    let mut rec = Collect::default();
+    sim.run(&mut rec, &mut |_| {}).unwrap();
+    let errors = tracking_errors(&law, &rec, &[], &[], &|_| EsState::default());
+    let worst = assert_exponential(&errors, &rec.times, k, 1e-9, "S2 nominal");
+    println!("S2 nominal: worst deviation {worst:e}");
+
+    // (b) S3 WARNED, perp-radial: gather/avoid/dock + the warned threat term, whose ∂/∂t carries the
+    // threat's motion. Warning in force from t = 0; the threat passes 15 m from satellite 0.
+    let mut p = parameters(Strategy::FixedCentroid, Formation::Rhombus);
+    p.escape = Escape::PerpRadial;
+    let law = EquilibriumShaping::new(p).unwrap();
+    let nodes = law.tables().nodes_m.clone();
+    let threat = threat_from_plus_z(nodes[0] + Vector3::new(3.0, 15.0, 0.0), 0.5, 30.0);
+    let cfg = config(hcw, 0.005, 60.0, 5.0, vec![threat.clone()]);
+    let events = vec![Event {
+        time_s: 0.0,
+        action: EventAction::ThreatWarning {
+            threat: 0,
+            active: true,
+        },
+    }];
+    let mut sim = Simulation::new(
+        cfg,
+        &satellites(&start, free),
+        Law::new(law.clone()),
+        events,
+    )
+    .unwrap();
+    let mut rec = Collect::default();
+    sim.run(&mut rec, &mut |_| {}).unwrap();
+    // (The t = 0 recording precedes the first tick, whose update sees the warning.)
+    assert!(
+        rec.outputs[1..].iter().all(|o| o.iter().all(|m| *m == 1.0)),
+        "not warned throughout"
+    );
+    // The states the law built at t = 0 (the state machine is a pure function of what it saw).
+    let settings = law.machine_settings();
+    let warned: Vec<EsState> = start
+        .iter()
+        .map(|s| {
+            next_state(
+                &EsState::default(),
+                &Observation {
+                    time_s: 0.0,
+                    own_position_hill_m: s.position_m,
+                    warned_threat_hill: Some((
+                        threat.position_hill_m(0.0),
+                        threat.velocity_hill_mps(),
+                    )),
+                    sensed_threat_distance_m: None,
+                    pair_rms_error_m: 0.0,
+                    max_speed_mps: 0.0,
+                },
+                &settings,
+            )
+        })
+        .collect();
+    let errors = tracking_errors(&law, &rec, &[threat], &[true], &|i| warned[i].clone());
+    let worst = assert_exponential(&errors, &rec.times, k, 1e-9, "S3 warned");
+    println!("S3 warned: worst deviation {worst:e}");
+
+    // (c) S1 WARNED with the viscosity: two satellites 6 m apart (σ = 6 m) both 0.1 m inside the 20 m
+    // danger sphere (in the 0.5 m band), moving along the surface.
+    let mut p = parameters(Strategy::ScatterGather, Formation::Custom);
+    p.nodes_hill_m = Some(vec![[-3.0, 0.0, 0.0], [3.0, 0.0, 0.0]]);
+    let depth = (19.9f64 * 19.9 - 9.0).sqrt();
+    p.danger_center_hill_m = [0.0, 0.0, -depth];
+    let law = EquilibriumShaping::new(p).unwrap();
+    let start = vec![
+        RelativeStateHill {
+            position_m: Vector3::new(-3.0, 0.0, 0.0),
+            velocity_mps: Vector3::new(0.0, 4e-3, 0.0),
+        },
+        RelativeStateHill {
+            position_m: Vector3::new(3.0, 0.0, 0.0),
+            velocity_mps: Vector3::new(0.0, -2e-3, 1e-3),
+        },
+    ];
+    let threat = threat_from_plus_z(Vector3::new(0.0, 500.0, 0.0), 1.0, 1e4);
+    let cfg = config(hcw, 0.005, 60.0, 5.0, vec![threat.clone()]);
+    let events = vec![Event {
+        time_s: 0.0,
+        action: EventAction::ThreatWarning {
+            threat: 0,
+            active: true,
+        },
+    }];
+    let mut sim = Simulation::new(
+        cfg,
+        &satellites(&start, free),
+        Law::new(law.clone()),
+        events,
+    )
+    .unwrap();
+    let mut rec = Collect::default();
+    sim.run(&mut rec, &mut |_| {}).unwrap();
+    let warned = EsState {
+        mode: Mode::Warned,
+        ..EsState::default()
+    };
+    for (t, states) in rec.times.iter().zip(&rec.states) {
+        let scene = Scene::new(states.clone(), vec![], vec![]);
+        for i in 0..2 {
+            let nu = law
+                .desired_velocity(&scene.view(*t).satellite(i), &warned)
+                .viscosity
+                .coefficient;
+            assert!(
+                nu > 0.7,
+                "satellite {i} left the viscosity band at {t} s (ν = {nu})"
+            );
+        }
+    }
+    let errors = tracking_errors(&law, &rec, &[threat], &[true], &|_| warned.clone());
+    let worst = assert_exponential(&errors, &rec.times, k, 1e-9, "S1 warned, viscosity");
+    println!("S1 warned: worst deviation {worst:e}");
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The state machine
+// ------------------------------------------------------------------------------------------------------
+
+#[test]
+fn val_state_machine_follows_a_scripted_warning_timeline() {
+    let settings = MachineSettings {
+        physical_sensing_radius_m: 10.0,
+        escape: Escape::PerpCommon,
+        escape_direction_hill: Some(Vector3::new(1.0, 1.0, 0.7)),
+        escape_seed: 0,
+        settle_error_m: 0.1,
+        settle_speed_mps: 1e-3,
+        settle_hold_s: 10.0,
+    };
+    let own = Vector3::new(-3.0 * 3f64.sqrt(), 0.0, 0.0);
+    let threat = (Vector3::new(0.0, 0.0, 50.0), Vector3::new(0.0, 0.0, -1.0));
+    // (time, warning in force, sensed distance, RMS pair error, largest speed)
+    let script: &[(f64, bool, Option<f64>, f64, f64)] = &[
+        (0.0, false, None, 0.0, 0.0),
+        (1.0, false, Some(12.0), 0.0, 0.0), // sensed, but beyond R_s = 10 m
+        (2.0, false, Some(9.0), 0.0, 0.0),  // within R_s: threat term on
+        (3.0, false, Some(8.0), 0.0, 0.0),
+        (4.0, true, Some(7.0), 0.0, 0.0), // warned: physical term off
+        (10.0, true, None, 1.0, 0.1),
+        (20.0, false, None, 1.0, 0.1),   // all clear: returning
+        (21.0, false, None, 0.5, 5e-4),  // not settled (error)
+        (22.0, false, None, 0.05, 5e-4), // settled from 22 s
+        (25.0, false, None, 0.05, 2e-3), // too fast: the hold restarts
+        (26.0, false, None, 0.05, 5e-4), // settled from 26 s
+        (35.0, false, None, 0.05, 5e-4), // 9 s: not yet
+        (36.0, false, None, 0.05, 5e-4), // 10 s: nominal
+        (40.0, true, None, 0.0, 0.0),
+        (41.0, false, None, 0.0, 0.0),
+        (42.0, true, None, 0.0, 0.0), // warned again from RETURNING
+    ];
+    let mut s = EsState::default();
+    let mut trace = Vec::new();
+    for &(t, warned, sensed, error, speed) in script {
+        s = next_state(
+            &s,
+            &Observation {
+                time_s: t,
+                own_position_hill_m: own,
+                warned_threat_hill: warned.then_some(threat),
+                sensed_threat_distance_m: sensed,
+                pair_rms_error_m: error,
+                max_speed_mps: speed,
+            },
+            &settings,
+        );
+        trace.push((t, s.mode, s.threat_sensed, s.feedforward_suppressed));
+        if t == 4.0 {
+            // Stored at the warning: t_w, the virtual sensing radius ‖x_i − p_T‖ and K_i = 2 (R/3)²,
+            // the common direction (1, 1, 0.7) projected ⊥ v_T = −z and normalised.
+            let w = s.warning.unwrap();
+            let radius = (own - threat.0).norm();
+            assert_eq!(w.warned_at_s, 4.0);
+            assert_eq!(w.virtual_sensing_radius_m, radius);
+            assert_rel(w.width_m2, 2.0 * (radius / 3.0).powi(2), 1e-15, "K_i");
+            let expected = Vector3::new(1.0, 1.0, 0.0) / 2f64.sqrt();
+            assert!((w.escape_direction_hill - expected).norm() <= 1e-15);
+            assert_eq!(
+                w.threat_position_at_hill_m(14.0),
+                Vector3::new(0.0, 0.0, 40.0)
+            );
+        }
+        if t == 20.0 {
+            assert!(
+                s.warning.is_none(),
+                "the warning is dropped on the all-clear"
+            );
+        }
+    }
+    use Mode::*;
+    let expected = [
+        (0.0, Nominal, false, false),
+        (1.0, Nominal, false, false),
+        (2.0, Nominal, true, true),
+        (3.0, Nominal, true, false),
+        (4.0, Warned, false, true),
+        (10.0, Warned, false, false),
+        (20.0, Returning, false, true),
+        (21.0, Returning, false, false),
+        (22.0, Returning, false, false),
+        (25.0, Returning, false, false),
+        (26.0, Returning, false, false),
+        (35.0, Returning, false, false),
+        (36.0, Nominal, false, true),
+        (40.0, Warned, false, true),
+        (41.0, Returning, false, true),
+        (42.0, Warned, false, true),
+    ];
+    assert_eq!(trace, expected);
+    let timeline: Vec<(f64, ModeEvent)> = s.timeline.iter().map(|c| (c.time_s, c.event)).collect();
+    let mode = |from, to| ModeEvent::Mode { from, to };
+    assert_eq!(
+        timeline,
+        vec![
+            (2.0, ModeEvent::ThreatSensed),
+            (4.0, mode(Nominal, Warned)),
+            (4.0, ModeEvent::ThreatLost),
+            (20.0, mode(Warned, Returning)),
+            (36.0, mode(Returning, Nominal)),
+            (40.0, mode(Nominal, Warned)),
+            (41.0, mode(Warned, Returning)),
+            (42.0, mode(Returning, Warned)),
+        ]
+    );
+    assert_eq!(s.warning.unwrap().warned_at_s, 42.0);
+}
+
+#[test]
+fn val_escape_directions_follow_their_rules() {
+    use satflock::guidance::equilibrium_shaping::state_machine::common_escape_direction;
+    let v_t = Vector3::new(0.3, -1.0, 0.2);
+    let v_hat = v_t.normalize();
+    // Seeded perp-common: a unit vector ⊥ v_T, the same for the same seed, another for another seed.
+    let a = common_escape_direction(&v_t, None, 7);
+    let b = common_escape_direction(&v_t, None, 7);
+    let c = common_escape_direction(&v_t, None, 8);
+    assert_eq!(a, b);
+    assert!((a.norm() - 1.0).abs() <= 1e-15 && a.dot(&v_hat).abs() <= 1e-15);
+    assert!((c.norm() - 1.0).abs() <= 1e-15 && c.dot(&v_hat).abs() <= 1e-15);
+    assert!((a - c).norm() > 1e-3);
+    // Parallel stores v̂_T; perp-radial stores the common direction as its fallback.
+    let settings = |escape| MachineSettings {
+        physical_sensing_radius_m: 10.0,
+        escape,
+        escape_direction_hill: None,
+        escape_seed: 7,
+        settle_error_m: 0.1,
+        settle_speed_mps: 1e-3,
+        settle_hold_s: 10.0,
+    };
+    assert_eq!(
+        settings(Escape::Parallel).escape_direction_hill(&v_t),
+        v_hat
+    );
+    assert_eq!(settings(Escape::PerpRadial).escape_direction_hill(&v_t), a);
+    // A given direction along v_T is refused when the law starts, naming the key.
+    let mut p = parameters(Strategy::MovingCentroid, Formation::Rhombus);
+    p.escape = Escape::PerpCommon;
+    p.escape_direction_hill = Some([0.0, 0.0, 2.0]);
+    let mut law = EquilibriumShaping::new(p).unwrap();
+    let threat = threat_from_plus_z(Vector3::zeros(), 1.0, 100.0);
+    let scene = Scene::new(at_rest(&law.tables().nodes_m), vec![threat], vec![false]);
+    let err = law
+        .initialise(&scene.view(0.0), &mut vec![EsState::default(); 4])
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("escape_direction_hill"), "{err}");
+}
+
+#[test]
+fn val_state_machine_in_a_run_follows_the_warning_events() {
+    // S2 rhombus on HCW with the paper's per-axis cap (1.4 mm/s²), a 1 m/s threat from +z aimed at
+    // satellite 0's node at 200 s, warning on at 10 s and off at 60 s. Every satellite must be WARNED
+    // exactly from the 10 s tick, RETURNING from the 60 s tick, and back to NOMINAL once its settling
+    // conditions have held 10 s; the law's records-based smallest threat distance can only be at or
+    // above the engine's continuous one.
+    let law =
+        EquilibriumShaping::new(parameters(Strategy::MovingCentroid, Formation::Rhombus)).unwrap();
+    let nodes = law.tables().nodes_m.clone();
+    let threat = threat_from_plus_z(nodes[0], 1.0, 200.0);
+    let cfg = config(
+        DynamicsModel::Hcw(Hcw::new(n())),
+        0.05,
+        400.0,
+        1.0,
+        vec![threat],
+    );
+    let warning = |time_s, active| Event {
+        time_s,
+        action: EventAction::ThreatWarning { threat: 0, active },
+    };
+    let events = vec![warning(10.0, true), warning(60.0, false)];
+    let sats = satellites(&at_rest(&nodes), Actuator::new(1.4e-3, LimitKind::PerAxis));
+    let mut sim = Simulation::new(cfg, &sats, Law::new(law), events).unwrap();
+    let mut rec = Collect::default();
+    sim.run(&mut rec, &mut |_| {}).unwrap();
+    let results = sim.law_results();
+    let satellites_json = results["es_satellites"].as_array().unwrap();
+    for (i, sat) in satellites_json.iter().enumerate() {
+        let timeline = sat["timeline"].as_array().unwrap();
+        let modes: Vec<(f64, &str, &str)> = timeline
+            .iter()
+            .filter(|e| e["event"] == "mode")
+            .map(|e| {
+                (
+                    e["time_s"].as_f64().unwrap(),
+                    e["from"].as_str().unwrap(),
+                    e["to"].as_str().unwrap(),
+                )
+            })
+            .collect();
+        assert_eq!(modes.len(), 3, "satellite {i}: {modes:?}");
+        assert_eq!(modes[0], (10.0, "nominal", "warned"));
+        assert_eq!(modes[1], (60.0, "warned", "returning"));
+        assert_eq!((modes[2].1, modes[2].2), ("returning", "nominal"));
+        assert!(modes[2].0 >= 70.0 && modes[2].0 < 400.0, "{modes:?}");
+        println!("satellite {i}: back to nominal at {} s", modes[2].0);
+        // The es_mode output agrees at every recording (a record at t shows the state of the tick at t
+        // only after it ran: the 10 s and 60 s records precede those ticks).
+        for (t, outputs) in rec.times.iter().zip(&rec.outputs) {
+            let expected = if *t <= 10.0 {
+                0.0
+            } else if *t <= 60.0 {
+                1.0
+            } else if *t <= modes[2].0 {
+                2.0
+            } else {
+                0.0
+            };
+            assert_eq!(outputs[i], expected, "satellite {i} at {t} s");
+        }
+    }
+    // The counts metric.
+    let warned = rec.metric("es_warned");
+    assert_eq!(warned[30], 4.0);
+    assert_eq!(warned.last(), Some(&0.0));
+    assert_eq!(rec.metric("es_nominal").last(), Some(&4.0));
+    // Records-based smallest threat distance ≥ the continuous monitor's.
+    let records = rec.metric("es_min_threat_distance_m");
+    for (r, m) in records.iter().zip(&rec.monitor_min_threat_m) {
+        if let Some(m) = m {
+            assert!(*r >= m - 1e-9, "{r} < {m}");
+        }
+    }
+    let final_error = results["es_formation_error_m"].as_f64().unwrap();
+    assert!(final_error < 0.1, "formation error {final_error}");
+    println!(
+        "formation error {final_error:e} m, centroid displacement {} m, min threat distance (records) {} m, continuous {:?} m",
+        results["es_centroid_displacement_m"], records.last().unwrap(), rec.monitor_min_threat_m.last().unwrap()
+    );
+}
+
+#[test]
+fn val_parameters_parse_with_the_scenario_keys_and_refuse_bad_ones() {
+    // The [law] table with every key (as the scenario files write it).
+    let text = r#"
+        name = "equilibrium-shaping"
+        strategy = "mix"
+        formation = "custom"
+        nodes_hill_m = [[-3.0, 0.0, 0.0], [3.0, 0.0, 0.0], [0.0, 4.0, 0.0]]
+        side_m = 6.0
+        threat = 0
+        escape = "perp-common"
+        escape_direction_hill = [1.0, 1.0, 0.0]
+        escape_seed = 3
+        kinematic = false
+        pair_b_per_s = 20.0
+        pair_c_m2 = 10.0
+        threat_scale_mps = 40.0
+        physical_sensing_radius_m = 10.0
+        lj_epsilon_m2_per_s = 0.1
+        danger_center_hill_m = [0.0, 0.0, 0.0]
+        danger_radius_m = 20.0
+        scatter_gain_per_m_s = 5e-4
+        viscosity_gain = 1.0
+        viscosity_band_m = 0.5
+        gather_per_s = 3.214e-3
+        dock_per_s = 40.0
+        avoid_range_m2 = 6.0
+        dock_range_m2 = 6.0
+        tracking_gain_per_s = 0.05
+        feedforward = "analytic"
+        settle_error_m = 0.1
+        settle_speed_mps = 1e-3
+        settle_hold_s = 10.0
+    "#;
+    let config: LawConfig = toml::from_str(text).unwrap();
+    assert_eq!(config.name(), "equilibrium-shaping");
+    let LawConfig::EquilibriumShaping(p) = &config else {
+        panic!("wrong variant")
+    };
+    assert_eq!(
+        (p.strategy, p.escape, p.feedforward),
+        (Strategy::Mix, Escape::PerpCommon, Feedforward::Analytic)
+    );
+    assert!(config.build().is_ok());
+    // The minimal table: defaults everywhere else (the paper's values, spec defaults for the gaps).
+    let minimal: LawConfig = toml::from_str(
+        "name = \"equilibrium-shaping\"\nstrategy = \"moving-centroid\"\nformation = \"rhombus\"",
+    )
+    .unwrap();
+    let LawConfig::EquilibriumShaping(d) = &minimal else {
+        panic!("wrong variant")
+    };
+    assert_eq!(*d, parameters(Strategy::MovingCentroid, Formation::Rhombus));
+    // Round trip through TOML (what a set-law-parameters merge does).
+    let back: LawConfig = toml::from_str(&toml::to_string(&config).unwrap()).unwrap();
+    assert_eq!(back, config);
+    // Unknown keys and bad values: refused, naming the key and the allowed range.
+    assert!(toml::from_str::<LawConfig>(&format!("{text}\nspeed_mps = 1.0")).is_err());
+    let bad = |edit: &dyn Fn(&mut EquilibriumShapingParameters), key: &str| {
+        let mut p = parameters(Strategy::FixedCentroid, Formation::Rhombus);
+        edit(&mut p);
+        let err = EquilibriumShaping::new(p).unwrap_err().to_string();
+        assert!(err.contains(key) && err.contains("allowed"), "{key}: {err}");
+    };
+    bad(&|p| p.side_m = 0.0, "side_m");
+    bad(&|p| p.pair_c_m2 = -1.0, "pair_c_m2");
+    bad(&|p| p.tracking_gain_per_s = f64::NAN, "tracking_gain_per_s");
+    bad(&|p| p.danger_radius_m = 0.0, "danger_radius_m");
+    bad(&|p| p.settle_hold_s = -1.0, "settle_hold_s");
+    bad(
+        &|p| {
+            p.escape = Escape::PerpCommon;
+            p.escape_direction_hill = Some([0.0; 3]);
+        },
+        "escape_direction_hill",
+    );
+    let err = EquilibriumShaping::new(EquilibriumShapingParameters {
+        escape_direction_hill: Some([1.0, 0.0, 0.0]),
+        ..parameters(Strategy::FixedCentroid, Formation::Rhombus)
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("only read with escape = \"perp-common\""),
+        "{err}"
+    );
+    let err = EquilibriumShaping::new(EquilibriumShapingParameters {
+        nodes_hill_m: Some(vec![[0.0; 3], [1.0, 0.0, 0.0]]),
+        ..parameters(Strategy::FixedCentroid, Formation::Rhombus)
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("nodes_hill_m"), "{err}");
+    let err = EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Custom))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("nodes_hill_m"), "{err}");
+    // One satellite per node, and the sensing range must cover the formation.
+    let mut law =
+        EquilibriumShaping::new(parameters(Strategy::FixedCentroid, Formation::Hexagon)).unwrap();
+    let scene = Scene::new(at_rest(&law.tables().nodes_m[..4]), vec![], vec![]);
+    let err = law
+        .initialise(&scene.view(0.0), &mut vec![EsState::default(); 4])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("6 nodes") && err.contains("4 satellites"),
+        "{err}"
+    );
 }

@@ -56,9 +56,9 @@ impl LawConfig {
             LawConfig::Hold(p) => Law::new(hold::Hold::new(p.clone())?),
             LawConfig::Bifurcating(p) => Law::new(bifurcating::Bifurcating::new(p.clone())?),
             LawConfig::J2Distance(p) => Law::new(j2_distance::J2Distance::new(p.clone())?),
-            LawConfig::EquilibriumShaping(p) => Law::new(
-                equilibrium_shaping::EquilibriumShaping::new(p.clone())?,
-            ),
+            LawConfig::EquilibriumShaping(p) => {
+                Law::new(equilibrium_shaping::EquilibriumShaping::new(p.clone())?)
+            }
         })
     }
 

@@ -8,7 +8,7 @@
 use nalgebra::{DMatrix, Vector3};
 
 use super::field::{self, EscapeRule, FieldTerm, Viscosity};
-use super::parameters::{Escape, EquilibriumShapingParameters, Strategy};
+use super::parameters::{EquilibriumShapingParameters, Escape, Strategy};
 use super::shaping::pair_attraction_per_s;
 use super::state_machine::{EsState, Mode};
 use crate::swarm::SatelliteView;
@@ -177,7 +177,8 @@ pub fn desired_velocity(
         FieldSet::Pair => satellite.for_each_neighbour(|nb| {
             let delta = tables.distance_m(i, nb.id);
             let a = pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2);
-            let term = field::pair_attraction_repulsion(&-nb.offset_m, a, p.pair_b_per_s, p.pair_c_m2);
+            let term =
+                field::pair_attraction_repulsion(&-nb.offset_m, a, p.pair_b_per_s, p.pair_c_m2);
             add(&mut sum, &term, &v, &nb.state.velocity_mps);
         }),
         FieldSet::GatherAvoidDock => {
@@ -364,8 +365,9 @@ pub fn field_at_nodes_mps(
             let mut v = match set {
                 FieldSet::Pair => Vector3::zeros(),
                 FieldSet::GatherAvoidDock => {
-                    let mut v = field::gather(&x, &tables.node_centroid_m, n as f64 * p.gather_per_s)
-                        .velocity_mps;
+                    let mut v =
+                        field::gather(&x, &tables.node_centroid_m, n as f64 * p.gather_per_s)
+                            .velocity_mps;
                     for sink in nodes {
                         v += field::dock(&x, sink, p.dock_per_s, p.dock_range_m2).velocity_mps;
                     }

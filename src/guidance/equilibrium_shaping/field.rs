@@ -108,7 +108,8 @@ pub fn pair_attraction_repulsion(
     let e = (-offset_m.norm_squared() / c_m2).exp();
     let h = a_per_s - b_per_s * e;
     // ∂g/∂y = −h I − y ∇hᵀ, ∇h = (2 b e / c) y.
-    let jac = -h * Matrix3::identity() - (2.0 * b_per_s * e / c_m2) * offset_m * offset_m.transpose();
+    let jac =
+        -h * Matrix3::identity() - (2.0 * b_per_s * e / c_m2) * offset_m * offset_m.transpose();
     FieldTerm::pair(-h * offset_m, jac)
 }
 
@@ -254,7 +255,10 @@ pub fn scatter(
 ) -> FieldTerm {
     let s = position_m - center_m;
     let Some((e_rho, rho)) = unit(&s) else {
-        return FieldTerm::own(gain_per_m_s * radius_m * radius_m * fallback, Matrix3::zeros());
+        return FieldTerm::own(
+            gain_per_m_s * radius_m * radius_m * fallback,
+            Matrix3::zeros(),
+        );
     };
     let h = gain_per_m_s * (radius_m * radius_m - rho * rho);
     let dh = -2.0 * gain_per_m_s * rho;
@@ -415,11 +419,17 @@ mod tests {
 
     #[test]
     fn val_pair_terms_jacobians_match_finite_differences() {
-        check_pair(&|y| pair_attraction_repulsion(y, 0.546474, 20.0, 10.0), "Eq. 1");
+        check_pair(
+            &|y| pair_attraction_repulsion(y, 0.546474, 20.0, 10.0),
+            "Eq. 1",
+        );
         check_pair(&|y| avoid(y, 42.5935, 6.0), "avoid");
         // Lennard-Jones on both sides of σ and inside the guard (r < 0.5 σ = 3 m for σ = 6 m).
         check_pair(&|y| lennard_jones(y, 0.1, 6.0), "Lennard-Jones σ = 6 m");
-        check_pair(&|y| lennard_jones(y, 0.1, 10.392), "Lennard-Jones σ = 10.392 m");
+        check_pair(
+            &|y| lennard_jones(y, 0.1, 10.392),
+            "Lennard-Jones σ = 10.392 m",
+        );
     }
 
     #[test]
@@ -446,14 +456,14 @@ mod tests {
         ];
         for (rule, what) in rules {
             for (k_m2, t_s) in [(22.22, 0.0), (88.9, 1.7)] {
-                let at = |x: &Vector3<f64>, t: f64| {
-                    threat(x, &(p0 + v_t * t), &v_t, 40.0, k_m2, &rule)
-                };
+                let at =
+                    |x: &Vector3<f64>, t: f64| threat(x, &(p0 + v_t * t), &v_t, 40.0, k_m2, &rule);
                 for x in points() {
                     let term = at(&x, t_s);
                     let numeric = jacobian(&|p| at(p, t_s).velocity_mps, &x);
                     assert_close(&term.d_own_per_s, &numeric, what);
-                    let dt = (at(&x, t_s + H).velocity_mps - at(&x, t_s - H).velocity_mps) / (2.0 * H);
+                    let dt =
+                        (at(&x, t_s + H).velocity_mps - at(&x, t_s - H).velocity_mps) / (2.0 * H);
                     let scale = term.d_time_m_s2.amax().max(dt.amax());
                     assert!(
                         (term.d_time_m_s2 - dt).amax() <= 1e-7 * scale + 1e-9,
@@ -486,7 +496,10 @@ mod tests {
             );
             largest = largest.max(t.d_own_per_s.norm());
         }
-        assert!((largest - bound).abs() <= 1e-6 * bound, "{largest} vs {bound}");
+        assert!(
+            (largest - bound).abs() <= 1e-6 * bound,
+            "{largest} vs {bound}"
+        );
     }
 
     #[test]
@@ -517,7 +530,10 @@ mod tests {
                 numeric
             );
         }
-        assert_eq!(viscosity(&Vector3::new(10.0, 0.0, 0.0), &c, 20.0, 1.0, 0.5).coefficient, 0.0);
+        assert_eq!(
+            viscosity(&Vector3::new(10.0, 0.0, 0.0), &c, 20.0, 1.0, 0.5).coefficient,
+            0.0
+        );
     }
 
     #[test]
@@ -527,7 +543,10 @@ mod tests {
             let a = 20.0 * (-delta * delta / 10.0f64).exp();
             let y = Vector3::new(0.6, -0.8, 0.0) * delta;
             let g = pair_attraction_repulsion(&y, a, 20.0, 10.0).velocity_mps;
-            assert!(g.norm() <= 1e-15 * delta * 20.0, "Eq. 1 at δ = {delta}: {g}");
+            assert!(
+                g.norm() <= 1e-15 * delta * 20.0,
+                "Eq. 1 at δ = {delta}: {g}"
+            );
             let lj = lennard_jones(&y, 0.1, delta).velocity_mps;
             assert!(lj.norm() <= 1e-16, "LJ at σ = {delta}: {lj}");
         }

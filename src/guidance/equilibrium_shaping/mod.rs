@@ -441,7 +441,10 @@ impl GuidanceLaw for EquilibriumShaping {
         tracking - natural
     }
 
-    fn set_parameters(&mut self, parameters: &EquilibriumShapingParameters) -> Result<(), LawError> {
+    fn set_parameters(
+        &mut self,
+        parameters: &EquilibriumShapingParameters,
+    ) -> Result<(), LawError> {
         let (mut tables, avoid, rate) = Self::prepare(parameters, None)?;
         if let Some(started) = &self.started {
             tables.common_escape_hill = Self::check_swarm(parameters, &tables, started)?;
@@ -533,7 +536,11 @@ impl GuidanceLaw for EquilibriumShaping {
         );
         out.insert(
             "es_nodes_hill_m".into(),
-            json!(t.nodes_m.iter().map(|v| [v.x, v.y, v.z]).collect::<Vec<_>>()),
+            json!(t
+                .nodes_m
+                .iter()
+                .map(|v| [v.x, v.y, v.z])
+                .collect::<Vec<_>>()),
         );
         let fields = desired::fields_of(p.strategy);
         if fields.iter().any(|(s, _)| *s == FieldSet::Pair) {

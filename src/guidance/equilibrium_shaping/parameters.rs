@@ -283,7 +283,12 @@ impl EquilibriumShapingParameters {
         )?;
         range("lj_epsilon_m2_per_s", self.lj_epsilon_m2_per_s, 0.0, false)?;
         range("danger_radius_m", self.danger_radius_m, 0.0, true)?;
-        range("scatter_gain_per_m_s", self.scatter_gain_per_m_s, 0.0, false)?;
+        range(
+            "scatter_gain_per_m_s",
+            self.scatter_gain_per_m_s,
+            0.0,
+            false,
+        )?;
         range("viscosity_gain", self.viscosity_gain, 0.0, false)?;
         range("viscosity_band_m", self.viscosity_band_m, 0.0, false)?;
         range("gather_per_s", self.gather_per_s, 0.0, false)?;
@@ -301,20 +306,16 @@ impl EquilibriumShapingParameters {
             )));
         }
         match (self.formation, &self.nodes_hill_m) {
-            (Formation::Custom, None) => {
-                return Err(invalid(
-                    "formation = \"custom\" needs nodes_hill_m (a list of [x, y, z] in metres, Hill \
+            (Formation::Custom, None) => return Err(invalid(
+                "formation = \"custom\" needs nodes_hill_m (a list of [x, y, z] in metres, Hill \
                      frame, one per satellite)"
-                        .into(),
-                ))
-            }
-            (Formation::Rhombus | Formation::Hexagon, Some(_)) => {
-                return Err(invalid(
-                    "nodes_hill_m is only read with formation = \"custom\" (the presets are set by \
+                    .into(),
+            )),
+            (Formation::Rhombus | Formation::Hexagon, Some(_)) => return Err(invalid(
+                "nodes_hill_m is only read with formation = \"custom\" (the presets are set by \
                      side_m)"
-                        .into(),
-                ))
-            }
+                    .into(),
+            )),
             _ => {}
         }
         let key = match self.formation {

@@ -106,7 +106,10 @@ pub fn check_nodes(nodes_m: &[Vector3<f64>]) -> Result<(), ShapingError> {
             count: nodes_m.len(),
         });
     }
-    if let Some(node) = nodes_m.iter().position(|n| !n.iter().all(|v| v.is_finite())) {
+    if let Some(node) = nodes_m
+        .iter()
+        .position(|n| !n.iter().all(|v| v.is_finite()))
+    {
         return Err(ShapingError::NonFinite { node });
     }
     let mut largest: f64 = 0.0;
@@ -150,7 +153,11 @@ pub fn all_pairs(count: usize) -> Vec<(usize, usize)> {
 
 /// Assembles A p = r for the nodes `nodes_m` (Hill, m), the fixed gains and the pairs whose avoid
 /// coefficient is free (`pairs`, i < j; the other pairs' coefficients are zero).
-pub fn assemble(nodes_m: &[Vector3<f64>], gains: &GatherAvoidDock, pairs: &[(usize, usize)]) -> EsSystem {
+pub fn assemble(
+    nodes_m: &[Vector3<f64>],
+    gains: &GatherAvoidDock,
+    pairs: &[(usize, usize)],
+) -> EsSystem {
     let n = nodes_m.len();
     let mut matrix = DMatrix::zeros(3 * n, pairs.len());
     for (m, &(i, j)) in pairs.iter().enumerate() {
@@ -250,7 +257,11 @@ pub fn solve_min_norm(system: &EsSystem) -> Result<EsSolution, ShapingError> {
                 y[k] = 0.0;
             }
         }
-        let condition = if rank == 0 { 1.0 } else { sigma_max / sigma_min };
+        let condition = if rank == 0 {
+            1.0
+        } else {
+            sigma_max / sigma_min
+        };
         (u * y, rank, condition)
     };
     let residual = (a * &coefficients - r).norm();
