@@ -669,6 +669,29 @@ fn val_field_rate_at_the_nodes_matches_finite_differences() {
         );
         println!("{strategy:?} {formation:?} {set:?}: |λ_max| = {rate:.4} 1/s");
     }
+    // Above 128 nodes the rate is Gershgorin's bound: never below the true spectral radius. A
+    // 150-node sunflower disk (spacing ≈ 6 m) with Eq. 1.
+    let mut p = parameters(Strategy::MovingCentroid, Formation::Custom);
+    p.nodes_hill_m = Some(
+        (0..150)
+            .map(|i| {
+                let (a, r) = (i as f64 * 2.399_963, 3.4 * (i as f64 + 0.5).sqrt());
+                [r * a.cos(), r * a.sin(), 0.0]
+            })
+            .collect(),
+    );
+    let big = EquilibriumShaping::new(p.clone()).unwrap();
+    let exact = spectral_radius(&desired::stacked_jacobian_at_nodes(
+        &p,
+        big.tables(),
+        FieldSet::Pair,
+    ));
+    let bound = big.field_rate_at_nodes_per_s();
+    assert!(
+        bound >= exact && bound <= 4.0 * exact,
+        "bound {bound} vs exact {exact}"
+    );
+    println!("150 nodes, Eq. 1: Gershgorin {bound:.3} 1/s, exact {exact:.3} 1/s");
     // The strategy's rate is the largest over its fields; with a threat term the threat's gradient
     // bound A √(2/K) e^(−1/2) is included too (40 m/s, K = 22.2 m²: 7.28 1/s).
     let s1 =

@@ -309,20 +309,7 @@ pub fn stacked_jacobian_at_nodes(
             block += t.d_own_per_s;
         }
         for j in (0..n).filter(|j| *j != i) {
-            let y = x - nodes[j];
-            let delta = tables.distance_m(i, j);
-            let t = match set {
-                FieldSet::Pair => field::pair_attraction_repulsion(
-                    &y,
-                    pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
-                    p.pair_b_per_s,
-                    p.pair_c_m2,
-                ),
-                FieldSet::GatherAvoidDock => {
-                    field::avoid(&y, tables.avoid_per_s(i, j), p.avoid_range_m2)
-                }
-                FieldSet::Scatter => field::lennard_jones(&y, p.lj_epsilon_m2_per_s, delta),
-            };
+            let t = pair_term(p, tables, set, i, j, &(x - nodes[j]));
             let mut own_block = jac.fixed_view_mut::<3, 3>(3 * i, 3 * i);
             own_block += t.d_own_per_s;
             let mut nb_block = jac.fixed_view_mut::<3, 3>(3 * i, 3 * j);
@@ -332,21 +319,94 @@ pub fn stacked_jacobian_at_nodes(
     jac
 }
 
+/// Node counts up to which [`field_rate_at_nodes_per_s`] solves the 3N × 3N eigenproblem; above it a
+/// Gershgorin bound is used (O(N²) time once, O(N) memory).
+pub const EXACT_RATE_NODES: usize = 128;
+
 /// Largest eigenvalue modulus of [`stacked_jacobian_at_nodes`] \[1/s\]. Every field set is a gradient
 /// field (Eq. 1, gather, avoid, dock, Lennard-Jones and scatter are each −∇ of a potential, the pair
 /// potentials symmetric in i and j), so the stacked Jacobian is symmetric up to rounding; the symmetric
-/// eigensolver is used on its symmetric part.
+/// eigensolver is used on its symmetric part. Above [`EXACT_RATE_NODES`] nodes the largest absolute row
+/// sum (Gershgorin's bound, an upper bound of every |λ|) is returned instead.
 pub fn field_rate_at_nodes_per_s(
     p: &EquilibriumShapingParameters,
     tables: &Tables,
     set: FieldSet,
 ) -> f64 {
+    if tables.nodes_m.len() > EXACT_RATE_NODES {
+        return gershgorin_rate_per_s(p, tables, set);
+    }
     let jac = stacked_jacobian_at_nodes(p, tables, set);
     ((&jac + jac.transpose()) * 0.5)
         .symmetric_eigenvalues()
         .iter()
         .map(|l| l.abs())
         .fold(0.0, f64::max)
+}
+
+/// Largest absolute row sum of the stacked Jacobian at the nodes \[1/s\], without forming it.
+fn gershgorin_rate_per_s(p: &EquilibriumShapingParameters, tables: &Tables, set: FieldSet) -> f64 {
+    let nodes = &tables.nodes_m;
+    let n = nodes.len();
+    let center = Vector3::from(p.danger_center_hill_m);
+    let mut largest: f64 = 0.0;
+    for i in 0..n {
+        let x = nodes[i];
+        let mut own = match set {
+            FieldSet::Pair => nalgebra::Matrix3::zeros(),
+            FieldSet::GatherAvoidDock => {
+                let mut m = field::gather(&x, &tables.node_centroid_m, n as f64 * p.gather_per_s)
+                    .d_own_per_s;
+                for sink in nodes {
+                    m += field::dock(&x, sink, p.dock_per_s, p.dock_range_m2).d_own_per_s;
+                }
+                m
+            }
+            FieldSet::Scatter => {
+                field::scatter(
+                    &x,
+                    &center,
+                    p.danger_radius_m,
+                    p.scatter_gain_per_m_s,
+                    &tables.node_direction(i, &center),
+                )
+                .d_own_per_s
+            }
+        };
+        let mut off_diagonal = Vector3::zeros();
+        for j in (0..n).filter(|j| *j != i) {
+            let t = pair_term(p, tables, set, i, j, &(x - nodes[j]));
+            own += t.d_own_per_s;
+            off_diagonal += t.d_neighbour_per_s.abs().column_sum();
+        }
+        let rows = own.abs().column_sum() + off_diagonal;
+        largest = largest.max(rows.max());
+    }
+    largest
+}
+
+/// The pair term of `set` between nodes i and j at offset `offset_m` = x_i − x_j \[m\].
+fn pair_term(
+    p: &EquilibriumShapingParameters,
+    tables: &Tables,
+    set: FieldSet,
+    i: usize,
+    j: usize,
+    offset_m: &Vector3<f64>,
+) -> FieldTerm {
+    let delta = tables.distance_m(i, j);
+    match set {
+        FieldSet::Pair => field::pair_attraction_repulsion(
+            offset_m,
+            pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
+            p.pair_b_per_s,
+            p.pair_c_m2,
+        ),
+        FieldSet::GatherAvoidDock => {
+            field::avoid(offset_m, tables.avoid_per_s(i, j), p.avoid_range_m2)
+        }
+        FieldSet::Scatter => field::lennard_jones(offset_m, p.lj_epsilon_m2_per_s, delta),
+    }
 }
 
 /// The field of every satellite on its node when the whole swarm sits on the nodes at rest, for one
@@ -385,21 +445,7 @@ pub fn field_at_nodes_mps(
                 }
             };
             for j in (0..n).filter(|j| *j != i) {
-                let y = x - nodes[j];
-                let delta = tables.distance_m(i, j);
-                v += match set {
-                    FieldSet::Pair => field::pair_attraction_repulsion(
-                        &y,
-                        pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
-                        p.pair_b_per_s,
-                        p.pair_c_m2,
-                    ),
-                    FieldSet::GatherAvoidDock => {
-                        field::avoid(&y, tables.avoid_per_s(i, j), p.avoid_range_m2)
-                    }
-                    FieldSet::Scatter => field::lennard_jones(&y, p.lj_epsilon_m2_per_s, delta),
-                }
-                .velocity_mps;
+                v += pair_term(p, tables, set, i, j, &(x - nodes[j])).velocity_mps;
             }
             v
         })

@@ -31,8 +31,10 @@
 //!
 //! **Costs**: pair terms run over the neighbours the engine's grid returns (O(N) per step for a bounded
 //! neighbourhood); the dock term sums over every node (each satellite knows every node, O(N) per
-//! satellite); the equilibrium-shaping solve is a dense SVD of 3N × N(N−1)/2, done once, which limits
-//! the strategies that use it to [`MAX_SHAPED_NODES`] nodes.
+//! satellite); the equilibrium-shaping solve is a dense SVD of the N(N−1)/2 × 3N matrix Aᵀ, done once,
+//! which limits the strategies that use it (S1, S3, S4) to [`MAX_SHAPED_NODES`] nodes, and those
+//! strategies need a sensing range covering the whole formation (the ES coefficients balance every
+//! pair at the nodes). S2's pair terms vanish one by one at the nodes and need neither.
 
 pub mod desired;
 pub mod field;
@@ -57,8 +59,11 @@ pub use shaping::{EsSolution, GatherAvoidDock, ShapingError};
 pub use state_machine::{EsState, MachineSettings, Mode, ModeChange, ModeEvent, Observation};
 
 /// Largest node count of the strategies that solve for avoid coefficients (S1, S3, S4): the dense SVD of
-/// the 3N × N(N−1)/2 system takes about a second at this size.
-pub const MAX_SHAPED_NODES: usize = 64;
+/// the N(N−1)/2 × 3N matrix Aᵀ grows as ~N⁴·⁵ (measured 0.06 s at 64 nodes, 0.4 s at 100, 1.3 s at 128).
+pub const MAX_SHAPED_NODES: usize = 128;
+
+/// Largest node count for which `summary.json` lists the Eq. 4 attraction of every pair.
+pub const MAX_LISTED_NODES: usize = 128;
 
 /// Per-satellite output columns.
 const OUTPUT_NAMES: &[&str] = &["es_mode"];
@@ -110,7 +115,7 @@ impl EquilibriumShaping {
     /// Builds the law: checks the parameters, solves the equilibrium shaping if the strategy needs it and
     /// computes the field's rate at the nodes.
     pub fn new(parameters: EquilibriumShapingParameters) -> Result<Self, LawError> {
-        let (tables, avoid, field_rate_per_s) = Self::prepare(&parameters, None)?;
+        let (tables, avoid, field_rate_per_s) = Self::prepare(&parameters)?;
         Ok(Self {
             parameters,
             tables: Arc::new(tables),
@@ -121,11 +126,10 @@ impl EquilibriumShaping {
         })
     }
 
-    /// Node tables, avoid solution and field rate of a parameter set (keeping a known common escape
-    /// direction).
+    /// Node tables (without the common escape direction, known once the law starts), avoid solution and
+    /// field rate of a parameter set.
     fn prepare(
         p: &EquilibriumShapingParameters,
-        common_escape_hill: Option<Vector3<f64>>,
     ) -> Result<(Tables, Option<EsSolution>, f64), LawError> {
         p.check()?;
         let nodes = p.nodes_hill_m();
@@ -163,7 +167,7 @@ impl EquilibriumShaping {
             nodes_m: nodes,
             node_centroid_m: centroid,
             avoid_per_s: avoid_table,
-            common_escape_hill,
+            common_escape_hill: None,
         };
         let rate = fields
             .iter()
@@ -254,7 +258,8 @@ impl EquilibriumShaping {
     }
 
     /// Checks a parameter set against the swarm: one satellite per node, every node pair within sensing
-    /// range, the threat index, a usable `perp-common` direction. Returns the common escape direction
+    /// range (strategies with equilibrium-shaped avoid coefficients), the threat index, a usable
+    /// `perp-common` direction. Returns the common escape direction
     /// for the law's threat (`None` when the scenario has no threat).
     fn check_swarm(
         p: &EquilibriumShapingParameters,
@@ -269,13 +274,18 @@ impl EquilibriumShaping {
                 started.count
             )));
         }
+        // The ES avoid coefficients balance every pair at the nodes: each pair must be sensed there.
+        // (Eq. 1 and Lennard-Jones pair terms vanish one by one at the nodes, so S2 needs no such range.)
+        let shaped = desired::fields_of(p.strategy)
+            .iter()
+            .any(|(set, _)| *set == FieldSet::GatherAvoidDock);
         let largest = Self::largest_node_distance_m(tables);
         let range = started.sensing_range_m;
-        if largest > range {
+        if shaped && largest > range {
             return Err(invalid(format!(
-                "the largest node distance {largest} m exceeds the sensing range {range} m: the pair \
-                 terms need every satellite to sense every other on the nodes (allowed: \
-                 sensing.range_m >= {largest})"
+                "the largest node distance {largest} m exceeds the sensing range {range} m: the \
+                 equilibrium-shaped avoid coefficients balance every pair at the nodes, so every \
+                 satellite must sense every other there (allowed: sensing.range_m >= {largest})"
             )));
         }
         let threats = &started.threat_velocities_hill_mps;
@@ -445,7 +455,7 @@ impl GuidanceLaw for EquilibriumShaping {
         &mut self,
         parameters: &EquilibriumShapingParameters,
     ) -> Result<(), LawError> {
-        let (mut tables, avoid, rate) = Self::prepare(parameters, None)?;
+        let (mut tables, avoid, rate) = Self::prepare(parameters)?;
         if let Some(started) = &self.started {
             tables.common_escape_hill = Self::check_swarm(parameters, &tables, started)?;
         }
@@ -514,8 +524,8 @@ impl GuidanceLaw for EquilibriumShaping {
         values[3..6].copy_from_slice(&counts);
     }
 
-    /// `es_strategy`, `es_formation`, `es_nodes_hill_m`, the Eq. 4 attractions (`es_pair_attraction`)
-    /// or the ES solution (`es_avoid`: coefficients, residual, rank, condition number, warnings),
+    /// `es_strategy`, `es_formation`, `es_nodes_hill_m`, the Eq. 4 attractions (`es_pair_attraction`, up
+    /// to [`MAX_LISTED_NODES`] nodes) or the ES solution (`es_avoid`: coefficients, residual, rank, condition number, warnings),
     /// `es_field_rate_at_nodes_per_s`, final `es_formation_error_m` and `es_centroid_displacement_m`,
     /// `es_min_threat_distance_m` (over the recordings), and `es_satellites`: per satellite its mode,
     /// distance to its node and to its node relative to the centroid, speed, the stored warning
@@ -543,7 +553,7 @@ impl GuidanceLaw for EquilibriumShaping {
                 .collect::<Vec<_>>()),
         );
         let fields = desired::fields_of(p.strategy);
-        if fields.iter().any(|(s, _)| *s == FieldSet::Pair) {
+        if fields.iter().any(|(s, _)| *s == FieldSet::Pair) && n <= MAX_LISTED_NODES {
             let pairs: Vec<Value> = shaping::all_pairs(n)
                 .into_iter()
                 .map(|(i, j)| {
