@@ -3,8 +3,9 @@
 //!
 //! * equilibrium shaping (N1): the SVD minimum-norm avoid coefficients against the symmetry-reduced
 //!   weighted minimum-norm problem solved by hand (two constraints for the rhombus, one for the hexagon),
-//!   the paper's/spec's printed coefficients, the closed-form pairwise-cancelling coefficients and Eq. 4
-//!   at their printed digits; residuals; refusal of coincident nodes and of an unreachable system;
+//!   the reference coefficients of `docs/methods/equilibrium-shaping.md` (minimum-norm and closed-form
+//!   pairwise-cancelling coefficients, Eq. 4) at their printed digits; residuals; refusal of coincident
+//!   nodes and of an unreachable system;
 //! * the field vanishes at the nodes, through the law's own evaluation, and a kinematic run started on
 //!   the nodes stays there;
 //! * the stacked field Jacobian (the rate the engine checks steps against) against central finite
@@ -85,7 +86,7 @@ fn assert_rel(value: f64, reference: f64, tol: f64, what: &str) {
 /// The rhombus' minimum-norm solution by hand. By the rhombus' symmetry the minimum-norm solution is
 /// symmetric (the symmetry maps solutions to solutions of equal norm, and the minimum-norm one is
 /// unique): b_side for the 4 sides, b_short, b_far. The 12 equations reduce to two (apex satellites,
-/// x; short-diagonal satellites, y; spec §3.8):
+/// x; short-diagonal satellites, y; method page, "Equilibrium shaping"):
 /// E₁ b_side + E₃ b_far = 2c + d(e₁ + e₃) and E₁ (b_side + b_short) = 2 (c + d e₁),
 /// with E_k = e^(−k l²/k₂), e_k = e^(−k l²/k₃). Minimising 4 b_side² + b_short² + b_far² under them:
 /// p = W⁻¹Mᵀ (M W⁻¹ Mᵀ)⁻¹ q, W = diag(4, 1, 1).
@@ -122,19 +123,15 @@ fn hexagon_min_norm_by_hand(l: f64, g: &GatherAvoidDock) -> [f64; 3] {
 }
 
 #[test]
-fn val_n1_rhombus_min_norm_matches_hand_solution_and_spec() {
+fn val_n1_rhombus_min_norm_matches_hand_solution_and_printed_values() {
     let p = parameters(Strategy::FixedCentroid, Formation::Rhombus);
     let nodes = p.nodes_hill_m();
     let g = paper_gains();
     let s = solve_avoid_coefficients(&nodes, &g).unwrap();
-    // Residual: spec N1 asks ≤ 1e-12 (absolute, m/s); |r| ≈ 0.5 m/s, so this is ~1e-12 relative,
+    // Residual: ≤ 1e-12 (absolute, m/s) required; |r| ≈ 0.5 m/s, so this is ~1e-12 relative,
     // a few thousand ulps of the largest column entries — rounding only.
     assert!(s.residual <= 1e-12, "residual {:e}", s.residual);
-    assert_eq!(
-        (s.rank, s.pairs.len()),
-        (5, 6),
-        "rank 5 of 6 unknowns (spec §3.8)"
-    );
+    assert_eq!((s.rank, s.pairs.len()), (5, 6), "rank 5 of 6 unknowns");
     // Pairs: (0,1) long diagonal, (2,3) short diagonal, the other four sides.
     let side = [(0, 2), (0, 3), (1, 2), (1, 3)].map(|(i, j)| s.coefficient_per_s(i, j));
     let (short, far) = (s.coefficient_per_s(2, 3), s.coefficient_per_s(0, 1));
@@ -146,32 +143,28 @@ fn val_n1_rhombus_min_norm_matches_hand_solution_and_spec() {
     // b_far multiplies a column 1.6e5 times smaller than the sides': its SVD error is relatively larger
     // (ε·cond ≈ 2e-16 · 1e6), still far inside 1e-6.
     assert_rel(far, hand[2], 1e-6, "b_far vs the hand solution");
-    // The spec's printed values (to their last digit): 42.5935, 39.9998, 8.0e-4.
-    assert_printed(side[0], 42.5935, 1e-4, "b_side (spec)");
-    assert_printed(short, 39.9998, 1e-4, "b_short (spec)");
-    assert_printed(far, 8.0e-4, 1e-5, "b_far (spec)");
+    // The method page's printed values (to their last digit): 42.5935, 39.9998, 8.0e-4.
+    assert_printed(side[0], 42.5935, 1e-4, "b_side (printed)");
+    assert_printed(short, 39.9998, 1e-4, "b_short (printed)");
+    assert_printed(far, 8.0e-4, 1e-5, "b_far (printed)");
     assert!(!s.has_negative_coefficients());
 }
 
 #[test]
-fn val_n1_hexagon_min_norm_matches_hand_solution_and_spec() {
+fn val_n1_hexagon_min_norm_matches_hand_solution_and_printed_values() {
     let p = parameters(Strategy::FixedCentroid, Formation::Hexagon);
     let nodes = p.nodes_hill_m();
     let g = paper_gains();
     let s = solve_avoid_coefficients(&nodes, &g).unwrap();
     assert!(s.residual <= 1e-12, "residual {:e}", s.residual);
-    assert_eq!(
-        (s.rank, s.pairs.len()),
-        (9, 15),
-        "rank 9 of 15 unknowns (spec §3.8)"
-    );
+    assert_eq!((s.rank, s.pairs.len()), (9, 15), "rank 9 of 15 unknowns");
     let hand = hexagon_min_norm_by_hand(6.0, &g);
     for (i, j) in all_pairs(6) {
         let hops = (j - i).min(6 - (j - i));
         let b = s.coefficient_per_s(i, j);
         // Tolerances: adjacent pairs are the well-scaled columns (1e-9); the second-neighbour and
         // opposite columns are e^-12 and e^-18 smaller, and their coefficients carry a larger relative
-        // SVD error (measured 9e-9 for the opposite pairs): the spec's 1e-6.
+        // SVD error (measured 9e-9 for the opposite pairs): 1e-6 required.
         let tol = if hops == 1 { 1e-9 } else { 1e-6 };
         assert_rel(
             b,
@@ -180,15 +173,25 @@ fn val_n1_hexagon_min_norm_matches_hand_solution_and_spec() {
             &format!("pair ({i},{j}) vs the hand solution"),
         );
     }
-    assert_printed(s.coefficient_per_s(0, 1), 47.7805, 1e-4, "adjacent (spec)");
+    assert_printed(
+        s.coefficient_per_s(0, 1),
+        47.7805,
+        1e-4,
+        "adjacent (printed)",
+    );
     assert_printed(
         s.coefficient_per_s(0, 2),
         8.807e-4,
         1e-7,
-        "second neighbour (spec)",
+        "second neighbour (printed)",
     );
-    assert_printed(s.coefficient_per_s(0, 3), 2.911e-6, 1e-9, "opposite (spec)");
-    // The spec's symmetry check: b₂/b₁ = 3e^-12, b_opp/b₁ = 4e^-18 (exact for the minimum norm).
+    assert_printed(
+        s.coefficient_per_s(0, 3),
+        2.911e-6,
+        1e-9,
+        "opposite (printed)",
+    );
+    // The symmetry check: b₂/b₁ = 3e^-12, b_opp/b₁ = 4e^-18 (exact for the minimum norm).
     let b1 = s.coefficient_per_s(0, 1);
     assert_rel(
         s.coefficient_per_s(0, 2) / b1,
@@ -205,11 +208,11 @@ fn val_n1_hexagon_min_norm_matches_hand_solution_and_spec() {
 }
 
 #[test]
-fn val_n1_closed_forms_and_eq4_match_spec_and_cancel_pairwise() {
+fn val_n1_closed_forms_and_eq4_match_printed_values_and_cancel_pairwise() {
     let g = paper_gains();
     let l = 6.0;
     let long = l * 3f64.sqrt();
-    // Printed values (spec §3.8 and §3.1).
+    // Printed values (method page).
     assert_printed(
         closed_form_avoid_per_s(l, &g),
         41.2966,
@@ -490,7 +493,7 @@ impl Collect {
 }
 
 /// A threat that passes the aim point `aim` \[m\] at `arrival_s` \[s\] moving along −z at `speed` \[m/s\]
-/// (from +z, spec §6's default geometry).
+/// (from +z, the default geometry of the method page).
 fn threat_from_plus_z(aim: Vector3<f64>, speed: f64, arrival_s: f64) -> Threat {
     Threat::from_aim("threat", aim, -Vector3::z(), speed, arrival_s, 0.0).unwrap()
 }
@@ -893,7 +896,7 @@ fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
         &law,
         &sensed,
         &paths,
-        &[threat.clone()],
+        std::slice::from_ref(&threat),
         &[false],
         t0,
         "S2 nominal",
@@ -956,7 +959,7 @@ fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
             &law,
             &states,
             &paths,
-            &[threat.clone()],
+            std::slice::from_ref(&threat),
             &[true],
             t0,
             &format!("{strategy:?} warned"),
@@ -991,7 +994,7 @@ fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
         &law,
         &returning,
         &paths,
-        &[threat.clone()],
+        std::slice::from_ref(&threat),
         &[false],
         t0,
         "S4 returning",
@@ -1037,8 +1040,9 @@ fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
 fn val_holding_the_nodes_costs_exactly_the_hcw_offset_acceleration() {
     // On its node the field is zero and the satellite at rest, so the command is u = −a_in =
     // (−3n²x, 0, 0): Δv_i = 3n²|ξ_x,i| T exactly and nobody moves. For the rhombus over 200 s the mean
-    // is 1.81e-3 m/s (spec §4.1: "≈ 0.002 m/s per 200 s"). Continuous RK4 at 0.02 s on HCW truth; the
-    // ledger of a constant command is exact to rounding (1e-9 relative allowed), positions to 1e-9 m.
+    // is 1.81e-3 m/s (our reconstruction predicted "≈ 0.002 m/s per 200 s"). Continuous RK4 at 0.02 s
+    // on HCW truth; the ledger of a constant command is exact to rounding (1e-9 relative allowed),
+    // positions to 1e-9 m.
     let duration = 200.0;
     for strategy in [Strategy::MovingCentroid, Strategy::FixedCentroid] {
         let law = EquilibriumShaping::new(parameters(strategy, Formation::Rhombus)).unwrap();
@@ -1512,8 +1516,11 @@ fn val_state_machine_in_a_run_follows_the_warning_events() {
     let final_error = results["es_formation_error_m"].as_f64().unwrap();
     assert!(final_error < 0.1, "formation error {final_error}");
     println!(
-        "formation error {final_error:e} m, centroid displacement {} m, min threat distance (records) {} m, continuous {:?} m",
-        results["es_centroid_displacement_m"], records.last().unwrap(), rec.monitor_min_threat_m.last().unwrap()
+        "formation error {final_error:e} m, centroid displacement {} m, smallest threat distance \
+         (records) {} m, continuous {:?} m",
+        results["es_centroid_displacement_m"],
+        records.last().unwrap(),
+        rec.monitor_min_threat_m.last().unwrap()
     );
 }
 
@@ -1561,7 +1568,7 @@ fn val_parameters_parse_with_the_scenario_keys_and_refuse_bad_ones() {
         (Strategy::Mix, Escape::PerpCommon, Feedforward::Analytic)
     );
     assert!(config.build().is_ok());
-    // The minimal table: defaults everywhere else (the paper's values, spec defaults for the gaps).
+    // The minimal table: defaults everywhere else (the paper's values, documented defaults for the gaps).
     let minimal: LawConfig = toml::from_str(
         "name = \"equilibrium-shaping\"\nstrategy = \"moving-centroid\"\nformation = \"rhombus\"",
     )
@@ -1569,10 +1576,24 @@ fn val_parameters_parse_with_the_scenario_keys_and_refuse_bad_ones() {
     let LawConfig::EquilibriumShaping(d) = &minimal else {
         panic!("wrong variant")
     };
-    assert_eq!(*d, parameters(Strategy::MovingCentroid, Formation::Rhombus));
-    // Round trip through TOML (what a set-law-parameters merge does).
+    assert_eq!(
+        **d,
+        parameters(Strategy::MovingCentroid, Formation::Rhombus)
+    );
+    // Round trip through TOML, and a set-law-parameters merge (the scenario layer's own function).
     let back: LawConfig = toml::from_str(&toml::to_string(&config).unwrap()).unwrap();
     assert_eq!(back, config);
+    let update: toml::Table =
+        toml::from_str("strategy = \"fixed-centroid\"\ntracking_gain_per_s = 0.1").unwrap();
+    let merged = satflock::scenario::merge_law_parameters(&config, &update).unwrap();
+    let LawConfig::EquilibriumShaping(m) = &merged else {
+        panic!("wrong variant")
+    };
+    assert_eq!(
+        (m.strategy, m.tracking_gain_per_s),
+        (Strategy::FixedCentroid, 0.1)
+    );
+    assert_eq!(m.nodes_hill_m, p.nodes_hill_m);
     // Unknown keys and bad values: refused, naming the key and the allowed range.
     assert!(toml::from_str::<LawConfig>(&format!("{text}\nspeed_mps = 1.0")).is_err());
     let bad = |edit: &dyn Fn(&mut EquilibriumShapingParameters), key: &str| {

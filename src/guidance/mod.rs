@@ -35,8 +35,8 @@ pub enum LawConfig {
     Bifurcating(bifurcating::BifurcatingParameters),
     /// Takahashi–Sakai distance-based stabiliser under J2.
     J2Distance(j2_distance::J2DistanceParameters),
-    /// Behaviour-based scatter by equilibrium shaping (Nag & Summerer 2013).
-    EquilibriumShaping(equilibrium_shaping::EquilibriumShapingParameters),
+    /// Behaviour-based scatter by equilibrium shaping (Nag & Summerer 2013). Boxed: its table is large.
+    EquilibriumShaping(Box<equilibrium_shaping::EquilibriumShapingParameters>),
 }
 
 impl LawConfig {
@@ -57,7 +57,7 @@ impl LawConfig {
             LawConfig::Bifurcating(p) => Law::new(bifurcating::Bifurcating::new(p.clone())?),
             LawConfig::J2Distance(p) => Law::new(j2_distance::J2Distance::new(p.clone())?),
             LawConfig::EquilibriumShaping(p) => {
-                Law::new(equilibrium_shaping::EquilibriumShaping::new(p.clone())?)
+                Law::new(equilibrium_shaping::EquilibriumShaping::new((**p).clone())?)
             }
         })
     }
@@ -80,7 +80,7 @@ impl LawConfig {
             LawConfig::Hold(p) => LawParameters::new(p),
             LawConfig::Bifurcating(p) => LawParameters::new(p),
             LawConfig::J2Distance(p) => LawParameters::new(p),
-            LawConfig::EquilibriumShaping(p) => LawParameters::new(p),
+            LawConfig::EquilibriumShaping(p) => LawParameters::new(*p),
         }
     }
 }

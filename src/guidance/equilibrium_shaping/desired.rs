@@ -1,6 +1,6 @@
 //! The active desired-velocity field of one satellite: which building blocks a strategy uses in each
-//! mode (spec §5's table), their sum at the satellite's sensed state, and the analytic material
-//! derivative of that sum along the satellite's and its neighbours' motion; also the stacked field
+//! mode (paper §4; the strategy table of `docs/methods/equilibrium-shaping.md`), their sum at the
+//! satellite's sensed state, and the analytic material derivative of that sum along the satellite's and its neighbours' motion; also the stacked field
 //! Jacobian at the nodes that bounds the closed-loop rate.
 //!
 //! Hill frame (x radial out, y along-track, z orbit normal), relative to the LVLH origin \[m, m/s\].
@@ -35,8 +35,9 @@ pub enum ThreatUse {
     Warned,
 }
 
-/// The field of `strategy` in `mode` (spec §5). NOMINAL and RETURNING add the physically sensed threat
-/// term; WARNED adds the warned one, except in S1, whose satellites are not told the threat's state.
+/// The field of `strategy` in `mode` (paper §4; the method page's strategy table). NOMINAL and
+/// RETURNING add the physically sensed threat term; WARNED adds the warned one, except in S1, whose
+/// satellites are not told the threat's state.
 pub fn field_of(strategy: Strategy, mode: Mode) -> (FieldSet, ThreatUse) {
     use FieldSet::*;
     match (strategy, mode) {

@@ -19,7 +19,7 @@
 //! | [`lennard_jones`] | −∇ ε((σ/r)¹² − 2(σ/r)⁶) | Eqs. 8–9 |
 //! | [`scatter`] | κ (R² − ρ²) ê_ρ | Eq. 10 |
 //! | [`viscosity`] | −ν(x) v | Eqs. 11–12 |
-//! | [`gather`], [`avoid`], [`dock`] | −c (x − ξ), b y e^(−‖y‖²/k₂), −d (x − ξ) e^(−‖x − ξ‖²/k₃) | Eqs. 13–15 |
+//! | [`gather`], [`avoid`], [`dock`] | −c (x − ξ), b y e^(−‖y‖²/k₂), −d (x − ξ) e^(−‖x − ξ‖²/k₃) | 13–15 |
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -149,7 +149,7 @@ pub fn gaussian_source(
     FieldTerm::own(-k * s, jac)
 }
 
-/// How the threat term's unit escape direction â is chosen (spec `escape`).
+/// How the threat term's unit escape direction â is chosen (the `escape` key).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EscapeRule {
     /// A fixed unit vector (Hill frame): the threat's own direction of motion (`parallel`) or one common

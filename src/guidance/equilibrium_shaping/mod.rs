@@ -26,8 +26,9 @@
 //! commanded velocity is the fixed point v = v_f − ν v, i.e. v_f / (1 + ν).
 //!
 //! **Feed-forward reset**: on every switch of a satellite's state machine (mode change, or the threat
-//! entering or leaving the physical sensing radius) a_ff is zero for that tick, as spec §5 prescribes.
-//! The analytic feed-forward has no memory, so the reset only drops one tick of it.
+//! entering or leaving the physical sensing radius) a_ff is zero for that tick, as the method
+//! prescribes (against an impulse from a differentiated jump). The analytic feed-forward has no memory,
+//! so the reset only drops one tick of it.
 //!
 //! **Costs**: pair terms run over the neighbours the engine's grid returns (O(N) per step for a bounded
 //! neighbourhood); the dock term sums over every node (each satellite knows every node, O(N) per
@@ -525,7 +526,8 @@ impl GuidanceLaw for EquilibriumShaping {
     }
 
     /// `es_strategy`, `es_formation`, `es_nodes_hill_m`, the Eq. 4 attractions (`es_pair_attraction`, up
-    /// to [`MAX_LISTED_NODES`] nodes) or the ES solution (`es_avoid`: coefficients, residual, rank, condition number, warnings),
+    /// to [`MAX_LISTED_NODES`] nodes) or the ES solution (`es_avoid`: coefficients, residual, rank,
+    /// condition number, warnings),
     /// `es_field_rate_at_nodes_per_s`, final `es_formation_error_m` and `es_centroid_displacement_m`,
     /// `es_min_threat_distance_m` (over the recordings), and `es_satellites`: per satellite its mode,
     /// distance to its node and to its node relative to the centroid, speed, the stored warning
@@ -627,18 +629,28 @@ impl GuidanceLaw for EquilibriumShaping {
                     .iter()
                     .map(|c| match c.event {
                         ModeEvent::Mode { from, to } => {
-                            json!({"time_s": c.time_s, "event": "mode", "from": from.name(), "to": to.name()})
+                            json!({
+                                "time_s": c.time_s,
+                                "event": "mode",
+                                "from": from.name(),
+                                "to": to.name(),
+                            })
                         }
-                        ModeEvent::ThreatSensed => json!({"time_s": c.time_s, "event": "threat-sensed"}),
-                        ModeEvent::ThreatLost => json!({"time_s": c.time_s, "event": "threat-lost"}),
+                        ModeEvent::ThreatSensed => {
+                            json!({"time_s": c.time_s, "event": "threat-sensed"})
+                        }
+                        ModeEvent::ThreatLost => {
+                            json!({"time_s": c.time_s, "event": "threat-lost"})
+                        }
                     })
                     .collect();
                 let warning = s.warning.map(|w| {
+                    let a = w.escape_direction_hill;
                     json!({
                         "warned_at_s": w.warned_at_s,
                         "virtual_sensing_radius_m": w.virtual_sensing_radius_m,
                         "width_m2": w.width_m2,
-                        "escape_direction_hill": [w.escape_direction_hill.x, w.escape_direction_hill.y, w.escape_direction_hill.z],
+                        "escape_direction_hill": [a.x, a.y, a.z],
                     })
                 });
                 json!({

@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::shaping::{check_nodes, GatherAvoidDock};
 use crate::swarm::LawError;
 
-/// The paper's four scatter strategies (spec §5), each a NOMINAL, a WARNED and a RETURNING field.
+/// The paper's four scatter strategies (paper §4), each a NOMINAL, a WARNED and a RETURNING field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Strategy {
@@ -42,8 +42,8 @@ impl Strategy {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Formation {
-    /// Four nodes, 60°/120° rhombus of side l in the orbital plane (spec §6): (∓l√3/2, 0, 0),
-    /// (0, ±l/2, 0).
+    /// Four nodes, 60°/120° rhombus of side l in the orbital plane (the paper's geometry; the in-plane
+    /// orientation is our choice): (∓l√3/2, 0, 0), (0, ±l/2, 0).
     Rhombus,
     /// Six nodes on a regular hexagon of side l in the orbital plane: l (cos kπ/3, sin kπ/3, 0).
     Hexagon,
@@ -51,7 +51,7 @@ pub enum Formation {
     Custom,
 }
 
-/// How the threat term's escape direction â is chosen (spec §3.3).
+/// How the threat term's escape direction â is chosen (paper Eq. 3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Escape {
@@ -64,7 +64,8 @@ pub enum Escape {
     PerpRadial,
 }
 
-/// The kinematic-acceleration feed-forward of the tracking controller (spec §4.1).
+/// The kinematic-acceleration feed-forward of the tracking controller (paper Eq. 7; how the paper
+/// obtains it is not stated).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Feedforward {

@@ -1,5 +1,6 @@
-//! The per-satellite warning state machine of the `equilibrium-shaping` law (spec §5): NOMINAL →
-//! WARNED on a ground warning about the law's threat, WARNED → RETURNING when the warning is lifted,
+//! The per-satellite warning state machine of the `equilibrium-shaping` law (the ground station's
+//! warning and 'safe' flag of the paper's §3.1, made explicit): NOMINAL → WARNED on a ground warning
+//! about the law's threat, WARNED → RETURNING when the warning is lifted,
 //! RETURNING → NOMINAL once the formation has settled (or → WARNED on a new warning). In NOMINAL and
 //! RETURNING the satellite also reacts to the threat its own sensors see within the physical sensing
 //! radius. Every switch (mode or physical sensing) suppresses the feed-forward for the tick and is
@@ -49,7 +50,7 @@ impl Mode {
     }
 }
 
-/// What a satellite stored when it was warned (spec §5).
+/// What a satellite stored when it was warned.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Warning {
     /// t_w: when the satellite received the warning \[s\].
