@@ -57,9 +57,10 @@ enum Command {
     /// Propagate one orbit (no control) and write its states to CSV.
     Propagate(PropagateArgs),
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
-    /// as a Markdown table. Targets: see `satflock validate --list`.
+    /// as a Markdown table. Targets: `core`, `gao`, `scatter`, `takahashi` (see `satflock validate
+    /// --list`).
     Validate {
-        /// Target name (e.g. `core`).
+        /// Target name: `core`, `gao`, `scatter` or `takahashi`.
         #[arg(required_unless_present = "list")]
         target: Option<String>,
         /// List the targets.

@@ -323,6 +323,45 @@ fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
 }
 
 #[test]
+fn val_validate_scatter_prints_only_the_report_as_markdown_and_json() {
+    // Markdown: the outcome table with the paper column, every N and B row, the two further tables.
+    let output = satflock().args(["validate", "scatter"]).output().unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(text.starts_with("### Nag & Summerer 2013"), "{text}");
+    assert!(text.contains("| id | outcome | paper | ours | verdict |"));
+    for id in [
+        "N1", "N2", "N3", "N4", "N5", "N6", "N7", "N8", "N10", "B1", "B2",
+    ] {
+        assert!(text.contains(&format!("| {id} |")), "{id} missing");
+    }
+    assert!(text.contains("| N9 S2 perpendicular |") && text.contains("| N11 sphere |"));
+    assert!(
+        text.contains("#### Strategy comparison")
+            && text.contains("#### Cases of the reconstruction")
+    );
+    // JSON: stdout is exactly one JSON document (nothing else printed on stdout).
+    let output = satflock()
+        .args(["validate", "scatter", "--json"])
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(v["checks"].as_array().unwrap().len(), 21);
+    assert_eq!(v["tables"].as_array().unwrap().len(), 2);
+    assert!(v["checks"].as_array().unwrap().iter().all(|c| [
+        "reproduced",
+        "differs",
+        "not-reproduced"
+    ]
+    .contains(&c["verdict"].as_str().unwrap())));
+}
+
+#[test]
 fn val_gao_circle_reaches_its_ring_before_1000_s_and_records_the_shape_columns() {
     // Spec O6: the ring of G3 is established by ~1000 s (our prototype: within 5 % at 450 s).
     let dir = scratch_dir("gao-circle");

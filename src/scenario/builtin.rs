@@ -107,6 +107,58 @@ pub const BUILTINS: &[Builtin] = &[
         name: "ts-outage",
         toml: include_str!("../../scenarios/ts-outage.toml"),
     },
+    Builtin {
+        name: "es-e0",
+        toml: include_str!("../../scenarios/es-e0.toml"),
+    },
+    Builtin {
+        name: "es-e1",
+        toml: include_str!("../../scenarios/es-e1.toml"),
+    },
+    Builtin {
+        name: "es-e1-capped",
+        toml: include_str!("../../scenarios/es-e1-capped.toml"),
+    },
+    Builtin {
+        name: "es-e2a-h200",
+        toml: include_str!("../../scenarios/es-e2a-h200.toml"),
+    },
+    Builtin {
+        name: "es-e2a-h2000",
+        toml: include_str!("../../scenarios/es-e2a-h2000.toml"),
+    },
+    Builtin {
+        name: "es-e2b-1",
+        toml: include_str!("../../scenarios/es-e2b-1.toml"),
+    },
+    Builtin {
+        name: "es-e2b-2",
+        toml: include_str!("../../scenarios/es-e2b-2.toml"),
+    },
+    Builtin {
+        name: "es-e2b-3",
+        toml: include_str!("../../scenarios/es-e2b-3.toml"),
+    },
+    Builtin {
+        name: "es-e2b-4",
+        toml: include_str!("../../scenarios/es-e2b-4.toml"),
+    },
+    Builtin {
+        name: "es-e2b-2-electric",
+        toml: include_str!("../../scenarios/es-e2b-2-electric.toml"),
+    },
+    Builtin {
+        name: "es-e3a",
+        toml: include_str!("../../scenarios/es-e3a.toml"),
+    },
+    Builtin {
+        name: "es-e3b",
+        toml: include_str!("../../scenarios/es-e3b.toml"),
+    },
+    Builtin {
+        name: "es-e4",
+        toml: include_str!("../../scenarios/es-e4.toml"),
+    },
 ];
 
 /// The built-in scenario of that name.

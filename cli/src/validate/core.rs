@@ -321,7 +321,9 @@ pub fn report() -> Result<Report, ValidateError> {
     relative_motion(&mut checks, &mut notes)?;
     Ok(Report {
         title: "Core physics against analytic references".into(),
+        reference_header: "reference".into(),
         checks,
+        tables: Vec::new(),
         notes,
     })
 }

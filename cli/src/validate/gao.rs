@@ -1084,7 +1084,9 @@ pub fn report() -> Result<Report, ValidateError> {
         title:
             "Gao, Li & Wei 2022, bifurcating potential field (spec gao-bifurcating-potential §6)"
                 .into(),
+        reference_header: "reference".into(),
         checks,
+        tables: Vec::new(),
         notes,
     })
 }

@@ -4,6 +4,7 @@
 
 pub mod core;
 pub mod gao;
+pub mod scatter;
 pub mod takahashi;
 
 use std::fmt;
@@ -47,24 +48,43 @@ pub struct Check {
     pub verdict: Verdict,
 }
 
-/// A report: a titled list of checks and notes.
+/// A further table of a report (e.g. a strategy comparison beside the paper's).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Table {
+    /// Title, printed as a heading above the table.
+    pub title: String,
+    /// Column headers.
+    pub header: Vec<String>,
+    /// Rows, each as many cells as `header`.
+    pub rows: Vec<Vec<String>>,
+}
+
+/// A report: a titled list of checks, further tables and notes.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Report {
     /// Title (the source being reproduced).
     pub title: String,
+    /// Header of the reference column in Markdown: `reference`, or `paper` for a report whose
+    /// references are a paper's (not serialised: the JSON field of a check is always `paper`).
+    #[serde(skip)]
+    pub reference_header: String,
     /// The checks, in order.
     pub checks: Vec<Check>,
-    /// Remarks printed under the table (what differs and why).
+    /// Further tables, printed under the checks (omitted from the JSON when there are none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub tables: Vec<Table>,
+    /// Remarks printed under the tables (what differs and why).
     pub notes: Vec<String>,
 }
 
 impl Report {
-    /// The report as Markdown: a heading, a table `id | outcome | reference | ours | verdict`, notes.
+    /// The report as Markdown: a heading, a table `id | outcome | reference | ours | verdict`, the
+    /// further tables, notes.
     pub fn to_markdown(&self) -> String {
         let cell = |s: &str| s.replace('|', "\\|").replace('\n', " ");
         let mut out = format!(
-            "### {}\n\n| id | outcome | reference | ours | verdict |\n| --- | --- | --- | --- | --- |\n",
-            self.title
+            "### {}\n\n| id | outcome | {} | ours | verdict |\n| --- | --- | --- | --- | --- |\n",
+            self.title, self.reference_header
         );
         for c in &self.checks {
             out.push_str(&format!(
@@ -75,6 +95,18 @@ impl Report {
                 cell(&c.ours),
                 c.verdict
             ));
+        }
+        for table in &self.tables {
+            out.push_str(&format!("\n#### {}\n\n", table.title));
+            let row = |cells: &[String]| {
+                let cells: Vec<String> = cells.iter().map(|c| cell(c)).collect();
+                format!("| {} |\n", cells.join(" | "))
+            };
+            out.push_str(&row(&table.header));
+            out.push_str(&format!("|{}\n", " --- |".repeat(table.header.len())));
+            for r in &table.rows {
+                out.push_str(&row(r));
+            }
         }
         for note in &self.notes {
             out.push_str(&format!("\n{note}\n"));
@@ -116,6 +148,10 @@ pub const TARGETS: &[(&str, &str)] = &[
         "Gao et al. 2022 bifurcating potential field: outcomes O1-O14 (shapes, speed-up, Table 5, delta-v)",
     ),
     (
+        "scatter",
+        "Nag & Summerer 2013 behaviour-based scatter (equilibrium shaping): N1-N11, bounds B1-B2, Table 1-2 comparison",
+    ),
+    (
         "takahashi",
         "Takahashi & Sakai distance-based stabiliser under J2: §4.1 comparison, §4.2 planes, outages",
     ),
@@ -126,6 +162,7 @@ pub fn run(target: &str) -> Result<Report, ValidateError> {
     match target {
         "core" => core::report(),
         "gao" => gao::report(),
+        "scatter" => scatter::report(),
         "takahashi" => takahashi::report(),
         _ => Err(ValidateError::UnknownTarget {
             name: target.to_string(),

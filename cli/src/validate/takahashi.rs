@@ -856,7 +856,9 @@ pub fn report() -> Result<Report, ValidateError> {
     Ok(Report {
         title: "Takahashi & Sakai (seed 002): distance-based relative orbital transition under J2"
             .into(),
+        reference_header: "reference".into(),
         checks,
+        tables: Vec::new(),
         notes,
     })
 }
