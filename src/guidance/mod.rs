@@ -11,12 +11,14 @@
 //! | `bifurcating` | [`bifurcating`] | Gao et al. 2022 bifurcating potential field: formation, collision avoidance, damping |
 //! | `j2-distance` | [`j2_distance`] | Takahashi–Sakai distance-based stabiliser under J2 (main or opposing), with centralised DT grouping |
 //! | `equilibrium-shaping` | [`equilibrium_shaping`] | Nag–Summerer behaviour-based scatter under threat warnings: equilibrium-shaped velocity fields tracked on HCW, four strategies |
+//! | `pigeon` | [`pigeon`] | Qiu et al. pigeon-flock formation in the y–z plane with random egalitarian/hierarchical pattern switching, obstacles, radial PD, saturated CW thrust |
 
 pub mod bifurcating;
 pub mod equilibrium_shaping;
 pub mod free_drift;
 pub mod hold;
 pub mod j2_distance;
+pub mod pigeon;
 
 use serde::{Deserialize, Serialize};
 
@@ -37,6 +39,8 @@ pub enum LawConfig {
     J2Distance(j2_distance::J2DistanceParameters),
     /// Behaviour-based scatter by equilibrium shaping (Nag & Summerer 2013). Boxed: its table is large.
     EquilibriumShaping(Box<equilibrium_shaping::EquilibriumShapingParameters>),
+    /// Pigeon-flock formation with interaction-pattern switching (Qiu et al.). Boxed: its table is large.
+    Pigeon(Box<pigeon::PigeonParameters>),
 }
 
 impl LawConfig {
@@ -47,6 +51,7 @@ impl LawConfig {
         "bifurcating",
         "j2-distance",
         "equilibrium-shaping",
+        "pigeon",
     ];
 
     /// Builds the law, checking its parameters.
@@ -59,6 +64,7 @@ impl LawConfig {
             LawConfig::EquilibriumShaping(p) => {
                 Law::new(equilibrium_shaping::EquilibriumShaping::new((**p).clone())?)
             }
+            LawConfig::Pigeon(p) => Law::new(pigeon::Pigeon::new((**p).clone())?),
         })
     }
 
@@ -70,6 +76,7 @@ impl LawConfig {
             LawConfig::Bifurcating(_) => "bifurcating",
             LawConfig::J2Distance(_) => "j2-distance",
             LawConfig::EquilibriumShaping(_) => "equilibrium-shaping",
+            LawConfig::Pigeon(_) => "pigeon",
         }
     }
 
@@ -81,6 +88,7 @@ impl LawConfig {
             LawConfig::Bifurcating(p) => LawParameters::new(p),
             LawConfig::J2Distance(p) => LawParameters::new(p),
             LawConfig::EquilibriumShaping(p) => LawParameters::new(*p),
+            LawConfig::Pigeon(p) => LawParameters::new(*p),
         }
     }
 }

@@ -1,0 +1,508 @@
+//! The `pigeon` law: distributed formation flight with pigeon-flock interaction-pattern switching, after
+//! H. Qiu, Q. Zhou, C. Sun, X. Wang, Y. Feng, "Distributed Satellite Formation Based on Swarm Intelligence
+//! of Pigeon Flocks" (IEEE conference paper). Method page: `docs/methods/pigeon.md`.
+//!
+//! The satellite's motion is split (the paper's Algorithm 1):
+//!
+//! * **Pigeon plane** y–z: the "pigeon position" is x_i = (z_i, y_i) — **z first** — with velocity
+//!   v_i = (ż_i, ẏ_i), and every distance of the law is a 2-D distance in this plane. The desired
+//!   acceleration u_i \[m/s²\] is the flock law (Eq. 14): formation term −K^F Σ_{N_i^1} ∇V^F over the
+//!   hysteretic egalitarian set (whatever the pattern), obstacle term −K^O Σ ∇V^O over the obstacles the
+//!   view reports, and for dominant satellites (S_d) the target term −K^T ∇V^T; velocity alignment
+//!   −K^V Σ_{N_i} w_ij v_ij over the pattern's set with the pattern's weights ([`potentials`]).
+//! * **Radial axis** x: held at zero by the PD ẍ_des = −K^P x − K^D ẋ.
+//!
+//! The CW inverse turns (ẍ_des, ÿ = u_i², z̈ = u_i¹) into thrust, which is clipped per axis at the
+//! satellite's own actuator limit; the saturated thrust f̄ (Hill, m/s²) is the command ([`thrust`]).
+//!
+//! **Pattern switching** ([`switching`]), once per tick in `update_state`: the egalitarian set N_i^1 with
+//! hysteresis (kept in the per-satellite [`PigeonState`]), the hierarchical set N_i^2, the local order
+//! parameter V_a,i over the previous tick's N_i (N_i^1 at the first tick), p_h = 1/(1 + α e^(−β(1 − V_a,i)))
+//! and one uniform draw from the satellite's own stream for the tick ([`LawContext::random`]), so runs
+//! are bitwise identical on any thread count.
+//!
+//! **Assumptions**: the scenario's sensing range must reach R_c^2 (refused otherwise when the law
+//! starts); the engine's neighbour query is 3-D, so a pair counts as sensed only within the sensing
+//! range in 3-D (identical to the 2-D rule once the radial PD has brought x to zero). Engine obstacles
+//! are spheres; the law uses the 2-D distance to the centre and the sphere's radius as r^O.
+
+pub mod parameters;
+pub mod potentials;
+pub mod switching;
+pub mod thrust;
+
+use std::collections::BTreeMap;
+
+use nalgebra::{Vector2, Vector3};
+use serde_json::{json, Value};
+
+use crate::swarm::{Broadcast, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
+
+pub use parameters::PigeonParameters;
+pub use potentials::{FormationPotential, ObstaclePotential};
+pub use thrust::{cw_thrust, CwThrust};
+
+use parameters::invalid;
+
+/// Per-satellite output columns.
+const OUTPUT_NAMES: &[&str] = &["pigeon_pattern"];
+
+/// Metric columns.
+const METRIC_NAMES: &[&str] = &[
+    "pigeon_order_parameter",
+    "pigeon_mean_distance_m",
+    "pigeon_mean_target_distance_m",
+    "pigeon_hierarchical",
+    "pigeon_switches",
+    "pigeon_barrier_violations",
+];
+
+/// The pigeon-plane vector (z, y) of a Hill vector (x, y, z).
+pub fn pigeon_plane(hill: &Vector3<f64>) -> Vector2<f64> {
+    Vector2::new(hill.z, hill.y)
+}
+
+/// One satellite's law state, updated once per tick.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PigeonState {
+    /// Number of updates so far (0 before the first tick).
+    pub updates: u64,
+    /// N_i^1: the egalitarian neighbours (hysteretic), sorted ids.
+    pub egalitarian: Vec<usize>,
+    /// N_i: the neighbours of this tick's pattern (N_i^1 or N_i^2), sorted ids; the next tick's V_a,i is
+    /// taken over them.
+    pub neighbours: Vec<usize>,
+    /// This tick's pattern: hierarchical (`true`) or egalitarian.
+    pub hierarchical: bool,
+    /// V_a,i used for this tick's draw (dimensionless, in \[0, 1\]).
+    pub local_order_parameter: f64,
+    /// p_h of this tick's draw.
+    pub hierarchical_probability: f64,
+    /// Pattern switches of this satellite so far (a change of pattern from one tick to the next).
+    pub switches: u64,
+    /// Samples with a sensed neighbour of higher id at 2-D distance ≤ R_L^3 (each pair counted once per
+    /// tick, by its lower-id satellite).
+    pub separation_violations: u64,
+    /// Samples with an obstacle at 2-D centre distance ≤ r^O + R_L^4.
+    pub clearance_violations: u64,
+}
+
+/// What the law learns from the swarm when it starts (to check parameter updates against).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Started {
+    /// Sensing range of the swarm \[m\].
+    sensing_range_m: f64,
+    /// Number of satellites.
+    count: usize,
+}
+
+/// The `pigeon` law.
+#[derive(Clone, Debug)]
+pub struct Pigeon {
+    parameters: PigeonParameters,
+    /// S_d, sorted.
+    dominant: Vec<usize>,
+    started: Option<Started>,
+}
+
+impl Pigeon {
+    /// Builds the law, checking its parameters.
+    pub fn new(parameters: PigeonParameters) -> Result<Self, LawError> {
+        parameters.check()?;
+        let mut dominant = parameters.dominant.clone();
+        dominant.sort_unstable();
+        Ok(Self {
+            parameters,
+            dominant,
+            started: None,
+        })
+    }
+
+    /// The current parameters.
+    pub fn parameters(&self) -> &PigeonParameters {
+        &self.parameters
+    }
+
+    /// Whether satellite `id` is dominant (knows the target).
+    pub fn is_dominant(&self, id: usize) -> bool {
+        self.dominant.binary_search(&id).is_ok()
+    }
+
+    /// The formation potential of the parameters.
+    pub fn formation_potential(&self) -> FormationPotential {
+        let p = &self.parameters;
+        FormationPotential {
+            min_separation_m: p.min_separation_m,
+            desired_separation_m: p.desired_separation_m,
+            link_range_m: p.egalitarian_range_m,
+        }
+    }
+
+    /// The obstacle potential of a circle of radius `radius_m` \[m\].
+    pub fn obstacle_potential(&self, radius_m: f64) -> ObstaclePotential {
+        ObstaclePotential {
+            radius_m,
+            min_clearance_m: self.parameters.min_clearance_m,
+            detection_m: self.parameters.obstacle_detection_m,
+        }
+    }
+
+    fn check_swarm(p: &PigeonParameters, started: &Started) -> Result<(), LawError> {
+        if p.hierarchical_range_m > started.sensing_range_m {
+            return Err(invalid(format!(
+                "hierarchical_range_m = {} m exceeds the sensing range {} m: the hierarchical \
+                 pattern links every satellite within R_c^2 (allowed: hierarchical_range_m <= \
+                 sensing.range_m)",
+                p.hierarchical_range_m, started.sensing_range_m
+            )));
+        }
+        if let Some(&bad) = p.dominant.iter().find(|&&d| d >= started.count) {
+            return Err(invalid(format!(
+                "dominant lists satellite {bad} but the swarm has {} satellites (allowed: 0 ..= {})",
+                started.count,
+                started.count.saturating_sub(1)
+            )));
+        }
+        Ok(())
+    }
+
+    /// The desired pigeon-plane acceleration u_i = (z̈, ÿ) of Eq. 14 \[m/s²\] for satellite `satellite`
+    /// in state `state` (before the CW inverse and saturation).
+    pub fn flock_acceleration(
+        &self,
+        satellite: &SatelliteView<'_>,
+        state: &PigeonState,
+    ) -> Vector2<f64> {
+        let p = &self.parameters;
+        let own = satellite.own_state();
+        let x_i = pigeon_plane(&own.position_m);
+        let v_i = pigeon_plane(&own.velocity_mps);
+        let dominant = self.is_dominant(satellite.id());
+        let formation = self.formation_potential();
+        let mut u = Vector2::zeros();
+        satellite.for_each_neighbour(|nb| {
+            let x_ij = -pigeon_plane(&nb.offset_m);
+            let v_ij = v_i - pigeon_plane(&nb.state.velocity_mps);
+            if state.egalitarian.binary_search(&nb.id).is_ok() {
+                let r = x_ij.norm();
+                if r > 0.0 {
+                    u -= p.k_formation_per_s2 * formation.slope_m(r) * x_ij / r;
+                }
+            }
+            if state.neighbours.binary_search(&nb.id).is_ok() {
+                let leader = dominant || self.is_dominant(nb.id);
+                let w = if state.hierarchical && leader {
+                    p.leader_weight
+                } else {
+                    1.0
+                };
+                u -= p.k_alignment_per_s * w * v_ij;
+            }
+        });
+        satellite.for_each_obstacle(|o| {
+            let d = x_i - pigeon_plane(&o.center_hill_m);
+            let r = d.norm();
+            if r > 0.0 {
+                u -= p.k_obstacle_per_s2 * self.obstacle_potential(o.radius_m).slope_m(r) * d / r;
+            }
+        });
+        if dominant {
+            let d = x_i - pigeon_plane(&Vector3::from(p.target_hill_m));
+            let r = d.norm();
+            if r > 0.0 {
+                u -= p.k_target_per_m_s2 * potentials::target_slope_m2(r, p.target_zone_m) * d / r;
+            }
+            u -= p.target_velocity_damping_per_s * v_i;
+        }
+        u
+    }
+
+    /// The whole Step 3–5 of one satellite: flock acceleration, radial PD, CW inverse, saturation at
+    /// the actuator limit of `context` and back-substitution.
+    pub fn thrust(
+        &self,
+        satellite: &SatelliteView<'_>,
+        state: &PigeonState,
+        context: &LawContext,
+    ) -> CwThrust {
+        let p = &self.parameters;
+        let own = satellite.own_state();
+        let u = self.flock_acceleration(satellite, state);
+        let radial =
+            -p.k_radial_p_per_s2 * own.position_m.x - p.k_radial_d_per_s * own.velocity_mps.x;
+        cw_thrust(
+            &own.position_m,
+            &own.velocity_mps,
+            &u,
+            radial,
+            satellite.shared().mean_motion_rad_s,
+            context.max_accel_m_s2(),
+        )
+    }
+
+    /// Global order parameter V_a (over live satellites), mean pair distance and mean target distance in
+    /// the pigeon plane \[m\] of a swarm. O(N²) in the pair distance.
+    pub fn swarm_measures(&self, swarm: &SwarmView<'_>) -> (f64, f64, f64) {
+        let live: Vec<usize> = (0..swarm.len()).filter(|i| swarm.active[*i]).collect();
+        let positions: Vec<Vector2<f64>> = live
+            .iter()
+            .map(|i| pigeon_plane(&swarm.relative_states[*i].position_m))
+            .collect();
+        let velocities: Vec<Vector2<f64>> = live
+            .iter()
+            .map(|i| pigeon_plane(&swarm.relative_states[*i].velocity_mps))
+            .collect();
+        let order = switching::order_parameter(&velocities);
+        let (mut sum, mut pairs) = (0.0, 0usize);
+        for (a, pa) in positions.iter().enumerate() {
+            for pb in &positions[a + 1..] {
+                sum += (pa - pb).norm();
+                pairs += 1;
+            }
+        }
+        let mean_distance = if pairs > 0 {
+            sum / pairs as f64
+        } else {
+            f64::NAN
+        };
+        let target = pigeon_plane(&Vector3::from(self.parameters.target_hill_m));
+        let mean_target = if positions.is_empty() {
+            f64::NAN
+        } else {
+            positions.iter().map(|x| (x - target).norm()).sum::<f64>() / positions.len() as f64
+        };
+        (order, mean_distance, mean_target)
+    }
+}
+
+impl GuidanceLaw for Pigeon {
+    type State = PigeonState;
+    type Parameters = PigeonParameters;
+
+    fn name(&self) -> &'static str {
+        "pigeon"
+    }
+
+    fn initialise(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        _states: &mut [PigeonState],
+    ) -> Result<(), LawError> {
+        let started = Started {
+            sensing_range_m: swarm.shared.sensing_range_m,
+            count: swarm.len(),
+        };
+        Self::check_swarm(&self.parameters, &started)?;
+        self.started = Some(started);
+        Ok(())
+    }
+
+    /// Step 2 of Algorithm 1: N_i^1 (hysteresis), N_i^2, V_a,i over the previous N_i, p_h, the pattern
+    /// draw, and the barrier-violation counts.
+    fn update_state(
+        &self,
+        satellite: &SatelliteView<'_>,
+        broadcast: &Broadcast<'_, PigeonState>,
+        context: &LawContext,
+    ) -> PigeonState {
+        let p = &self.parameters;
+        let previous = broadcast.own();
+        let first = previous.updates == 0;
+        let id = satellite.id();
+        let own = satellite.own_state();
+        let mut egalitarian = Vec::with_capacity(previous.egalitarian.len() + 4);
+        let mut hierarchical_set = Vec::new();
+        let mut separation_violations = 0u64;
+        satellite.for_each_neighbour(|nb| {
+            let r = pigeon_plane(&nb.offset_m).norm();
+            let linked = previous.egalitarian.binary_search(&nb.id).is_ok();
+            if switching::egalitarian_link(linked, r, p.egalitarian_range_m, p.link_delay_m) {
+                egalitarian.push(nb.id);
+            }
+            if switching::hierarchical_link(r, p.hierarchical_range_m) {
+                hierarchical_set.push(nb.id);
+            }
+            if r <= p.min_separation_m && nb.id > id {
+                separation_violations += 1;
+            }
+        });
+        egalitarian.sort_unstable();
+        hierarchical_set.sort_unstable();
+        let x_i = pigeon_plane(&own.position_m);
+        let mut clearance_violations = 0u64;
+        satellite.for_each_obstacle(|o| {
+            let r = (x_i - pigeon_plane(&o.center_hill_m)).norm();
+            if r <= o.radius_m + p.min_clearance_m {
+                clearance_violations += 1;
+            }
+        });
+        // V_a,i over the previous tick's N_i (N_i^1 at the first tick), with the velocities sensed now.
+        let order_set = if first {
+            &egalitarian
+        } else {
+            &previous.neighbours
+        };
+        let mut headings = switching::unit_heading(&pigeon_plane(&own.velocity_mps));
+        let mut members = 1usize;
+        satellite.for_each_neighbour(|nb| {
+            if order_set.binary_search(&nb.id).is_ok() {
+                headings += switching::unit_heading(&pigeon_plane(&nb.state.velocity_mps));
+                members += 1;
+            }
+        });
+        let local_order = headings.norm() / members as f64;
+        let (probability, hierarchical) = if p.switching {
+            let ph = switching::hierarchical_probability(local_order, p.alpha, p.beta);
+            (ph, context.random().uniform() < ph)
+        } else {
+            (0.0, false)
+        };
+        let switched = !first && hierarchical != previous.hierarchical;
+        let neighbours = if hierarchical {
+            hierarchical_set
+        } else {
+            egalitarian.clone()
+        };
+        PigeonState {
+            updates: previous.updates + 1,
+            egalitarian,
+            neighbours,
+            hierarchical,
+            local_order_parameter: local_order,
+            hierarchical_probability: probability,
+            switches: previous.switches + u64::from(switched),
+            separation_violations: previous.separation_violations + separation_violations,
+            clearance_violations: previous.clearance_violations + clearance_violations,
+        }
+    }
+
+    /// The saturated thrust f̄, Hill frame \[m/s²\] (spec §3).
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        state: &PigeonState,
+        context: &LawContext,
+    ) -> Vector3<f64> {
+        self.thrust(satellite, state, context).saturated_m_s2
+    }
+
+    fn set_parameters(&mut self, parameters: &PigeonParameters) -> Result<(), LawError> {
+        let law = Self::new(parameters.clone())?;
+        if let Some(started) = &self.started {
+            Self::check_swarm(parameters, started)?;
+        }
+        self.parameters = law.parameters;
+        self.dominant = law.dominant;
+        Ok(())
+    }
+
+    /// The largest per-link closed-loop rate of the law's linear parts \[1/s\] (mass-independent):
+    ///
+    /// * the radial PD s² + K^D s + K^P: its largest root modulus;
+    /// * one alignment link: v_ij decays at K^V (w_ij + w_ji) ≤ 2 K^V w';
+    /// * one formation link at the desired distance: ω = √(2 K^F V^F''(R_d)), V^F''(R_d) = 2 c²,
+    ///   c = max(R_d/(R_d − R_L^3), R_d/(R_c^1 − R_d)) (the stiffer branch);
+    /// * the optional damping K^{T,v}.
+    ///
+    /// Not included, because the engine cannot know them before the run or they are not resolvable by
+    /// design: the neighbour count (a satellite with m links damps at up to K^V w' m; 8.1/s for 9
+    /// hierarchical links at the defaults, still inside explicit-Euler stability 2/t_s at 0.1 s), the
+    /// obstacle stiffness (depends on each obstacle's radius), and the barrier stiffness near the
+    /// clamp (K^F c² (1 + 10⁶), hundreds per second: the barriers are soft in discrete time, and the law
+    /// counts the samples that cross them). Defaults: max(0.2, 1.8, 0.57, 0) = 1.8/s, so periods up to
+    /// 0.55 s are accepted.
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        let p = &self.parameters;
+        let (kp, kd) = (p.k_radial_p_per_s2, p.k_radial_d_per_s);
+        let discriminant = kd * kd - 4.0 * kp;
+        let pd = if discriminant >= 0.0 {
+            0.5 * (kd + discriminant.sqrt())
+        } else {
+            kp.sqrt()
+        };
+        let alignment = 2.0 * p.k_alignment_per_s * p.leader_weight;
+        let d = p.desired_separation_m;
+        let c = (d / (d - p.min_separation_m)).max(d / (p.egalitarian_range_m - d));
+        let formation = (2.0 * p.k_formation_per_s2 * 2.0 * c * c).sqrt();
+        Some(
+            pd.max(alignment)
+                .max(formation)
+                .max(p.target_velocity_damping_per_s),
+        )
+    }
+
+    fn output_names(&self) -> &'static [&'static str] {
+        OUTPUT_NAMES
+    }
+
+    /// `pigeon_pattern`: 0 egalitarian, 1 hierarchical.
+    fn write_outputs(&self, state: &PigeonState, values: &mut [f64]) {
+        values[0] = if state.hierarchical { 1.0 } else { 0.0 };
+    }
+
+    fn metric_names(&self) -> &'static [&'static str] {
+        METRIC_NAMES
+    }
+
+    /// Global order parameter V_a, mean pair distance \[m\] and mean target distance \[m\] (pigeon
+    /// plane, live satellites), the number of live hierarchical satellites, the pattern switches so far
+    /// and the barrier violations so far (separation pairs + obstacle clearances, counted per tick).
+    fn record_metrics(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        states: &[PigeonState],
+        values: &mut [f64],
+    ) {
+        let (order, mean_distance, mean_target) = self.swarm_measures(swarm);
+        let hierarchical = states
+            .iter()
+            .zip(swarm.active)
+            .filter(|(s, a)| **a && s.hierarchical)
+            .count();
+        values[0] = order;
+        values[1] = mean_distance;
+        values[2] = mean_target;
+        values[3] = hierarchical as f64;
+        values[4] = states.iter().map(|s| s.switches).sum::<u64>() as f64;
+        values[5] = states
+            .iter()
+            .map(|s| s.separation_violations + s.clearance_violations)
+            .sum::<u64>() as f64;
+    }
+
+    /// `pigeon_order_parameter`, `pigeon_mean_distance_m`, `pigeon_mean_target_distance_m` (final),
+    /// `pigeon_switches` (total) and `pigeon_switches_per_satellite`, `pigeon_barrier_violations` (total)
+    /// with `pigeon_separation_violations` and `pigeon_clearance_violations`, `pigeon_dominant`.
+    fn results(&self, swarm: &SwarmView<'_>, states: &[PigeonState]) -> BTreeMap<String, Value> {
+        let (order, mean_distance, mean_target) = self.swarm_measures(swarm);
+        let finite = |v: f64| v.is_finite().then_some(v);
+        let separation: u64 = states.iter().map(|s| s.separation_violations).sum();
+        let clearance: u64 = states.iter().map(|s| s.clearance_violations).sum();
+        let mut out = BTreeMap::new();
+        out.insert("pigeon_order_parameter".into(), json!(order));
+        out.insert(
+            "pigeon_mean_distance_m".into(),
+            json!(finite(mean_distance)),
+        );
+        out.insert(
+            "pigeon_mean_target_distance_m".into(),
+            json!(finite(mean_target)),
+        );
+        out.insert(
+            "pigeon_switches".into(),
+            json!(states.iter().map(|s| s.switches).sum::<u64>()),
+        );
+        out.insert(
+            "pigeon_switches_per_satellite".into(),
+            json!(states.iter().map(|s| s.switches).collect::<Vec<_>>()),
+        );
+        out.insert(
+            "pigeon_barrier_violations".into(),
+            json!(separation + clearance),
+        );
+        out.insert("pigeon_separation_violations".into(), json!(separation));
+        out.insert("pigeon_clearance_violations".into(), json!(clearance));
+        out.insert("pigeon_dominant".into(), json!(self.dominant));
+        out
+    }
+}
