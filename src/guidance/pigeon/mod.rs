@@ -506,3 +506,6 @@ impl GuidanceLaw for Pigeon {
         out
     }
 }
+
+#[cfg(test)]
+mod tests;
