@@ -283,11 +283,11 @@ fn val_p8_saturated_thrust_is_within_the_limit_and_back_substitution_satisfies_c
 #[test]
 fn val_p10_switching_probability_limits() {
     // p_h(1) = 1/(1 + α), p_h(0) = 1/(1 + α e^(−β)) (spec §2.6); evaluated to the last few ulps.
-    for (alpha, beta) in [(9.0, 10.0), (2.0, 0.5), (100.0, 3.0)] {
+    for (alpha, beta) in [(9.0_f64, 10.0_f64), (2.0, 0.5), (100.0, 3.0)] {
         let one = hierarchical_probability(1.0, alpha, beta);
         let zero = hierarchical_probability(0.0, alpha, beta);
         assert!((one - 1.0 / (1.0 + alpha)).abs() <= 1e-15);
-        assert!((zero - 1.0 / (1.0 + alpha * (-beta as f64).exp())).abs() <= 1e-15);
+        assert!((zero - 1.0 / (1.0 + alpha * (-beta).exp())).abs() <= 1e-15);
         assert!(one < 0.5 && zero > one);
     }
     assert!((hierarchical_probability(1.0, 9.0, 10.0) - 0.1).abs() <= 1e-16);
