@@ -195,8 +195,8 @@ fn val_p5_radial_pd_brings_table_i_into_the_yz_plane_and_p8_ledger_respects_the_
     // The sampled loop is the continuous one with the feedback held for up to t_s: the acceleration
     // difference is ≤ (K^P |ẋ| + K^D |ẍ|) t_s, which decays with the transient (∝ t e^(−ωt)). At 10 s
     // |ẋ| ≲ 0.6 m/s and |ẍ| ≲ 0.2 m/s² for Table I, a difference ≲ 0.02 m/s² whose response through the
-    // loop (impulse response t e^(−ωt), integral 1/ω² = 25 s²) is ≲ 0.5 m; the transient has already
-    // shrunk it, and we gate at 0.25 m after 10 s (the largest deviation observed is printed).
+    // loop (impulse response t e^(−ωt), integral 1/ω² = 25 s²) is ≲ 0.5 m: we gate at that derived bound
+    // after 10 s (the largest deviation observed, 0.15 m, is printed).
     let omega = 0.2;
     let mut largest: f64 = 0.0;
     for (t, states) in rec.times.iter().zip(&rec.states) {
@@ -207,7 +207,7 @@ fn val_p5_radial_pd_brings_table_i_into_the_yz_plane_and_p8_ledger_respects_the_
             let reference = (r[0] + (r[3] + omega * r[0]) * t) * (-omega * t).exp();
             largest = largest.max((s.position_m.x - reference).abs());
             assert!(
-                (s.position_m.x - reference).abs() <= 0.25,
+                (s.position_m.x - reference).abs() <= 0.5,
                 "t = {t}: x {} vs closed form {reference}",
                 s.position_m.x
             );
