@@ -17,6 +17,7 @@
 //! | support | [`grid`] | the cell-list neighbour grid (radius and nearest queries) |
 //! | support | [`environment`] | threats, obstacles and the continuous closest-approach geometry |
 //! | support | [`metrics`] | five-element cluster characterisation, separation and collision counts |
+//! | support | [`pool`] | a bounded pool of whole runs (each on its own single-thread rayon pool), results in job order |
 //! | engine | [`swarm`] | the law interface, the simulation (sensing, propagation, scheduler, events, monitors, snapshots) |
 //! | laws | [`guidance`] | the guidance laws and their registry |
 //! | input | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
@@ -34,6 +35,7 @@ pub mod integrate;
 pub mod metrics;
 pub mod orbit;
 pub mod output;
+pub mod pool;
 pub mod propagate;
 pub mod random;
 pub mod relative;

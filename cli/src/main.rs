@@ -57,10 +57,10 @@ enum Command {
     /// Propagate one orbit (no control) and write its states to CSV.
     Propagate(PropagateArgs),
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
-    /// as a Markdown table. Targets: `core`, `gao`, `scatter`, `takahashi` (see `satflock validate
+    /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi` (see `satflock validate
     /// --list`).
     Validate {
-        /// Target name: `core`, `gao`, `scatter` or `takahashi`.
+        /// Target name: `core`, `gao`, `pigeon`, `scatter` or `takahashi`.
         #[arg(required_unless_present = "list")]
         target: Option<String>,
         /// List the targets.

@@ -159,6 +159,14 @@ pub const BUILTINS: &[Builtin] = &[
         name: "es-e4",
         toml: include_str!("../../scenarios/es-e4.toml"),
     },
+    Builtin {
+        name: "pigeon-switching",
+        toml: include_str!("../../scenarios/pigeon-switching.toml"),
+    },
+    Builtin {
+        name: "pigeon-baseline",
+        toml: include_str!("../../scenarios/pigeon-baseline.toml"),
+    },
 ];
 
 /// The built-in scenario of that name.

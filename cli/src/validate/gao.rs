@@ -464,50 +464,22 @@ fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Chec
     }
 }
 
-/// Runs every `(built-in name, seed, duration)` job on as many worker threads as the current rayon
-/// pool has (`--threads`, default all cores), each worker running whole runs one after another on its
-/// own single-thread rayon pool: 50 satellites are too few for the engine's per-step parallelism to
+/// Runs every `(built-in name, seed, duration)` job through [`satflock::pool::run_bounded`] with as
+/// many workers as the current rayon pool has threads (`--threads`, default all cores), each worker
+/// running whole runs one after another on its own single-thread rayon pool: 50 satellites are too few for the engine's per-step parallelism to
 /// pay (a G3 run takes 3.0 s of CPU on one thread and more wall time on two), so runs, not steps, are
 /// spread over the cores. (A rayon `par_iter` over the runs would not bound the concurrency: a worker
 /// waiting in another pool's `install` steals and starts further runs.) Results do not depend on the
 /// thread count (the engine is bitwise deterministic). Traces come back in job order.
 pub fn run_all(jobs: &[(&str, u64, Option<f64>)]) -> Result<Vec<Trace>, ValidateError> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let workers = rayon::current_num_threads().clamp(1, jobs.len().max(1));
-    let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<Result<Trace, ValidateError>>>> =
-        Mutex::new((0..jobs.len()).map(|_| None).collect());
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| {
-                let pool = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
-                    Ok(pool) => pool,
-                    Err(e) => {
-                        let i = next.fetch_add(1, Ordering::SeqCst);
-                        if i < jobs.len() {
-                            results.lock().expect("results lock")[i] = Some(Err(failed(e)));
-                        }
-                        return;
-                    }
-                };
-                loop {
-                    let i = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(&(name, seed, duration_s)) = jobs.get(i) else {
-                        break;
-                    };
-                    let trace = pool.install(|| run_builtin(name, seed, duration_s));
-                    results.lock().expect("results lock")[i] = Some(trace);
-                }
-            });
-        }
-    });
-    results
-        .into_inner()
-        .expect("results lock")
-        .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err(failed("a run was not started"))))
-        .collect()
+    satflock::pool::run_bounded(
+        jobs.to_vec(),
+        rayon::current_num_threads(),
+        |(name, seed, duration_s)| run_builtin(name, seed, duration_s),
+    )
+    .map_err(failed)?
+    .into_iter()
+    .collect()
 }
 
 /// [`run_all`] of one scenario over `seeds`.

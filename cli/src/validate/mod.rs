@@ -4,6 +4,7 @@
 
 pub mod core;
 pub mod gao;
+pub mod pigeon;
 pub mod scatter;
 pub mod takahashi;
 
@@ -148,6 +149,10 @@ pub const TARGETS: &[(&str, &str)] = &[
         "Gao et al. 2022 bifurcating potential field: outcomes O1-O14 (shapes, speed-up, Table 5, delta-v)",
     ),
     (
+        "pigeon",
+        "Qiu et al. pigeon-flock switching formation: P1-P7, switching vs non-switching (20 seeds, 6000 s) and a damping extension",
+    ),
+    (
         "scatter",
         "Nag & Summerer 2013 behaviour-based scatter (equilibrium shaping): N1-N11, bounds B1-B2, Table 1-2 comparison",
     ),
@@ -162,6 +167,7 @@ pub fn run(target: &str) -> Result<Report, ValidateError> {
     match target {
         "core" => core::report(),
         "gao" => gao::report(),
+        "pigeon" => pigeon::report(),
         "scatter" => scatter::report(),
         "takahashi" => takahashi::report(),
         _ => Err(ValidateError::UnknownTarget {

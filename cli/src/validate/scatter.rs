@@ -370,49 +370,19 @@ pub fn run_case(job: &CaseJob) -> Result<CaseRun, ValidateError> {
     })
 }
 
-/// Runs every job, [`WORKERS`] at a time, each worker running whole runs one after another on its own
+/// Runs every job through [`satflock::pool::run_bounded`], [`WORKERS`] at a time, each worker running whole runs one after another on its own
 /// single-thread rayon pool (4–6 satellites are too few for the engine's per-step parallelism to pay;
 /// results do not depend on the thread count, the engine being bitwise deterministic). Runs come back
 /// in job order.
 pub fn run_cases(jobs: &[CaseJob]) -> Result<Vec<CaseRun>, ValidateError> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let workers = WORKERS
-        .min(rayon::current_num_threads())
-        .clamp(1, jobs.len().max(1));
-    let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<Result<CaseRun, ValidateError>>>> =
-        Mutex::new((0..jobs.len()).map(|_| None).collect());
-    std::thread::scope(|scope| {
-        for _ in 0..workers {
-            scope.spawn(|| {
-                let pool = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
-                    Ok(pool) => pool,
-                    Err(e) => {
-                        let i = next.fetch_add(1, Ordering::SeqCst);
-                        if i < jobs.len() {
-                            results.lock().expect("results lock")[i] = Some(Err(failed(e)));
-                        }
-                        return;
-                    }
-                };
-                loop {
-                    let i = next.fetch_add(1, Ordering::SeqCst);
-                    let Some(job) = jobs.get(i) else {
-                        break;
-                    };
-                    let run = pool.install(|| run_case(job));
-                    results.lock().expect("results lock")[i] = Some(run);
-                }
-            });
-        }
-    });
-    results
-        .into_inner()
-        .expect("results lock")
-        .into_iter()
-        .map(|r| r.unwrap_or_else(|| Err(failed("a run was not started"))))
-        .collect()
+    satflock::pool::run_bounded(
+        jobs.iter().collect(),
+        WORKERS.min(rayon::current_num_threads()),
+        run_case,
+    )
+    .map_err(failed)?
+    .into_iter()
+    .collect()
 }
 
 // ---------------------------------------------------------------------------------------------------

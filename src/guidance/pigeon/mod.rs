@@ -103,6 +103,11 @@ pub struct Pigeon {
     /// S_d, sorted.
     dominant: Vec<usize>,
     started: Option<Started>,
+    /// (time \[s\], mean inter-satellite distance \[m\]) at every recording since the law started, for
+    /// the stabilisation time of the summary.
+    mean_distance_history: Vec<(f64, f64)>,
+    /// First recording time at which the mean target distance was inside the target zone \[s\].
+    target_zone_reached_s: Option<f64>,
 }
 
 impl Pigeon {
@@ -115,7 +120,26 @@ impl Pigeon {
             parameters,
             dominant,
             started: None,
+            mean_distance_history: Vec::new(),
+            target_zone_reached_s: None,
         })
+    }
+
+    /// The stabilisation time of the mean inter-satellite distance \[s\]: the first recording after which
+    /// it stays within ±2 % of its last recorded value (the paper's "tends to be stable"; resolution: the
+    /// recording interval). `None` before two recordings.
+    pub fn stabilisation_time_s(&self) -> Option<f64> {
+        let (_, last) = *self.mean_distance_history.last()?;
+        if self.mean_distance_history.len() < 2 || !last.is_finite() {
+            return None;
+        }
+        let band = 0.02 * last.abs();
+        let first_inside_for_good = self
+            .mean_distance_history
+            .iter()
+            .rposition(|(_, d)| (d - last).abs() > band || d.is_nan())
+            .map_or(0, |k| k + 1);
+        Some(self.mean_distance_history[first_inside_for_good].0)
     }
 
     /// The current parameters.
@@ -288,6 +312,8 @@ impl GuidanceLaw for Pigeon {
         swarm: &SwarmView<'_>,
         _states: &mut [PigeonState],
     ) -> Result<(), LawError> {
+        self.mean_distance_history.clear();
+        self.target_zone_reached_s = None;
         let started = Started {
             sensing_range_m: swarm.shared.sensing_range_m,
             count: swarm.len(),
@@ -454,6 +480,11 @@ impl GuidanceLaw for Pigeon {
         values: &mut [f64],
     ) {
         let (order, mean_distance, mean_target) = self.swarm_measures(swarm);
+        let now = swarm.shared.time_s;
+        self.mean_distance_history.push((now, mean_distance));
+        if self.target_zone_reached_s.is_none() && mean_target < self.parameters.target_zone_m {
+            self.target_zone_reached_s = Some(now);
+        }
         let hierarchical = states
             .iter()
             .zip(swarm.active)
@@ -472,7 +503,10 @@ impl GuidanceLaw for Pigeon {
 
     /// `pigeon_order_parameter`, `pigeon_mean_distance_m`, `pigeon_mean_target_distance_m` (final),
     /// `pigeon_switches` (total) and `pigeon_switches_per_satellite`, `pigeon_barrier_violations` (total)
-    /// with `pigeon_separation_violations` and `pigeon_clearance_violations`, `pigeon_dominant`.
+    /// with `pigeon_separation_violations` and `pigeon_clearance_violations`, `pigeon_dominant`,
+    /// `pigeon_stabilisation_time_s` (see [`Pigeon::stabilisation_time_s`]) and
+    /// `pigeon_time_to_target_zone_s` (first recording with the mean target distance below R_L^2; null if
+    /// never). Both have the recording interval as their resolution.
     fn results(&self, swarm: &SwarmView<'_>, states: &[PigeonState]) -> BTreeMap<String, Value> {
         let (order, mean_distance, mean_target) = self.swarm_measures(swarm);
         let finite = |v: f64| v.is_finite().then_some(v);
@@ -503,6 +537,14 @@ impl GuidanceLaw for Pigeon {
         out.insert("pigeon_separation_violations".into(), json!(separation));
         out.insert("pigeon_clearance_violations".into(), json!(clearance));
         out.insert("pigeon_dominant".into(), json!(self.dominant));
+        out.insert(
+            "pigeon_stabilisation_time_s".into(),
+            json!(self.stabilisation_time_s()),
+        );
+        out.insert(
+            "pigeon_time_to_target_zone_s".into(),
+            json!(self.target_zone_reached_s),
+        );
         out
     }
 }

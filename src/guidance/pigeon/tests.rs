@@ -217,3 +217,20 @@ fn order_parameter_uses_the_previous_ticks_pattern_set() {
     // Next tick: satellite 1's set is the one its pattern chose (both sets are {0, 2} here).
     assert_eq!(states[1].neighbours, vec![0, 2]);
 }
+
+#[test]
+fn stabilisation_time_is_the_first_recording_inside_the_final_band_for_good() {
+    // Final value 40 m, band ±0.8 m: 41 m (t = 2 s) and 42 m (t = 4 s) are outside, 40.5 m (t = 3 s)
+    // inside but not for good, so the spacing is stable from t = 5 s (the spec's "last time it leaves
+    // the ±2 % band"); a history always inside the band is stable from its first recording.
+    let mut law = Pigeon::new(PigeonParameters::default()).unwrap();
+    assert_eq!(law.stabilisation_time_s(), None);
+    law.mean_distance_history = [100.0, 50.0, 41.0, 40.5, 42.0, 40.0]
+        .iter()
+        .enumerate()
+        .map(|(k, d)| (k as f64, *d))
+        .collect();
+    assert_eq!(law.stabilisation_time_s(), Some(5.0));
+    law.mean_distance_history = vec![(10.0, 40.3), (11.0, 39.9), (12.0, 40.0)];
+    assert_eq!(law.stabilisation_time_s(), Some(10.0));
+}
