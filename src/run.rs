@@ -3,6 +3,8 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::Instant;
 
 use thiserror::Error;
@@ -22,6 +24,15 @@ pub enum RunError {
     /// The simulation could not be built or stopped early (the summary says so too).
     #[error(transparent)]
     Simulation(#[from] SimError),
+    /// The output directory cannot be used: it is not a directory, or it holds files that are not a
+    /// previous satflock run's (the user's input: nothing was written or removed).
+    #[error("output directory `{path}`: {message}")]
+    OutputDirectory {
+        /// The path.
+        path: String,
+        /// What is wrong and what is allowed.
+        message: String,
+    },
     /// The output directory or a file in it cannot be written.
     #[error("output `{path}`: {message}")]
     Output {
@@ -44,6 +55,82 @@ pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
     )?)
 }
 
+/// The files a run writes into its output directory. A directory holding only these (or nothing) is a
+/// previous run's, which [`run_scenario`] clears before it starts.
+pub const RUN_FILES: &[&str] = &["summary.json", "metrics.csv", "trajectory.csv"];
+
+/// How a run is driven beyond its scenario.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// A flag another thread (a signal handler) may set to stop the run after the current segment; the
+    /// files are then closed and `summary.json` says `interrupted`.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+/// Makes `dir` ready for a run: creates it if needed; if it exists, it must be a directory holding
+/// nothing but a previous run's files ([`RUN_FILES`]), which are removed (`summary.json` first, so a
+/// run killed later never leaves an old summary beside new CSV files). Anything else is refused with
+/// [`RunError::OutputDirectory`], and nothing is removed.
+pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
+    let refuse = |message: String| RunError::OutputDirectory {
+        path: dir.display().to_string(),
+        message,
+    };
+    let output_error = |path: &Path, e: std::io::Error| RunError::Output {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    };
+    match std::fs::metadata(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e));
+        }
+        Err(e) => return Err(output_error(dir, e)),
+        Ok(m) if !m.is_dir() => {
+            return Err(refuse(
+                "exists and is not a directory (allowed: a new path, an empty directory or a previous \
+                 satflock run's directory)"
+                    .into(),
+            ))
+        }
+        Ok(_) => {}
+    }
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
+        let entry = entry.map_err(|e| output_error(dir, e))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
+        if !(is_file && RUN_FILES.contains(&name.as_str())) {
+            return Err(refuse(format!(
+                "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
+                 empty directory, or a directory holding only {})",
+                RUN_FILES.join(", ")
+            )));
+        }
+        found.push(name);
+    }
+    for name in RUN_FILES {
+        if found.iter().any(|f| f == name) {
+            let path = dir.join(name);
+            std::fs::remove_file(&path).map_err(|e| output_error(&path, e))?;
+        }
+    }
+    Ok(())
+}
+
+/// Refuses output keys the scenario validation does not cover: `[output] delta_v_budget_mps` must be
+/// finite and > 0.
+fn check_output_keys(scenario: &Scenario) -> Result<Option<f64>, RunError> {
+    match scenario.file.output.delta_v_budget_mps {
+        Some(b) if !(b.is_finite() && b > 0.0) => Err(ScenarioError::Invalid {
+            file: scenario.source.clone(),
+            key: "output.delta_v_budget_mps".into(),
+            message: format!("{b} is out of range (allowed: finite, > 0 m/s)"),
+        }
+        .into()),
+        budget => Ok(budget),
+    }
+}
+
 /// Runs a scenario, writing `metrics.csv`, `trajectory.csv` (unless the scenario turns it off) and
 /// `summary.json` into `out_dir` (created if needed). `progress` receives the simulated time \[s\].
 /// Returns the summary; on a simulation failure the summary is written with status `failed` and the
@@ -53,6 +140,20 @@ pub fn run_scenario(
     out_dir: &Path,
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunSummary, RunError> {
+    run_scenario_with(scenario, out_dir, &RunOptions::default(), progress)
+}
+
+/// [`run_scenario`] with options. The output directory is prepared by [`prepare_output_dir`] once the
+/// run can start. A run stopped by the cancel flag writes `summary.json` with status `interrupted` and
+/// returns [`SimError::Interrupted`]. Collisions and a delta-v budget exceeded are warnings in the
+/// summary's `warnings` (the run still completes).
+pub fn run_scenario_with(
+    scenario: &Scenario,
+    out_dir: &Path,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunSummary, RunError> {
+    let budget_mps = check_output_keys(scenario)?;
     let prepared = scenario.prepare()?;
     let output_error = |path: &Path, e: std::io::Error| RunError::Output {
         path: path.display().to_string(),
@@ -73,8 +174,11 @@ pub fn run_scenario(
         prepared.law,
         prepared.events,
     )?;
-    // The output directory is created only once the run can start.
-    std::fs::create_dir_all(out_dir).map_err(|e| output_error(out_dir, e))?;
+    if let Some(flag) = &options.cancel {
+        simulation.set_cancel_flag(flag.clone());
+    }
+    // The output directory is created (or a previous run's cleared) only once the run can start.
+    prepare_output_dir(out_dir)?;
     let columns = CsvColumns {
         threats: !simulation.config().threats.is_empty(),
         obstacles: !simulation.config().obstacles.is_empty(),
@@ -103,12 +207,13 @@ pub fn run_scenario(
         scenario: prepared.name,
         source: scenario.source.clone(),
         seed,
-        status: if outcome.is_ok() {
-            RunStatus::Completed
-        } else {
-            RunStatus::Failed
+        status: match &outcome {
+            Ok(_) => RunStatus::Completed,
+            Err(SimError::Interrupted { .. }) => RunStatus::Interrupted,
+            Err(_) => RunStatus::Failed,
         },
         error: outcome.as_ref().err().map(|e| e.to_string()),
+        warnings: run_warnings(totals.max_collisions, totals.min_separation_m, &ledger, budget_mps),
         n_satellites: n,
         duration_s,
         simulated_s: simulation.time_s(),
@@ -152,4 +257,76 @@ pub fn run_scenario(
     std::fs::write(&path, text + "\n").map_err(|e| output_error(&path, e))?;
     outcome?;
     Ok(summary)
+}
+
+/// The warnings of a run: collisions (largest simultaneous count, smallest separation) and satellites
+/// whose delta-v exceeds the scenario's budget.
+fn run_warnings(
+    collisions: usize,
+    min_separation_m: f64,
+    ledger: &[([f64; 3], f64)],
+    budget_mps: Option<f64>,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if collisions > 0 {
+        warnings.push(format!(
+            "collisions: up to {collisions} pair(s) of satellites closer than the sum of their radii at \
+             once (smallest separation {min_separation_m:.4} m)"
+        ));
+    }
+    if let Some(budget) = budget_mps {
+        let over: Vec<usize> = (0..ledger.len()).filter(|&i| ledger[i].1 > budget).collect();
+        if let Some(&worst) = over
+            .iter()
+            .max_by(|&&a, &&b| ledger[a].1.total_cmp(&ledger[b].1))
+        {
+            warnings.push(format!(
+                "delta-v budget exceeded: {} satellite(s) spent more than output.delta_v_budget_mps = \
+                 {budget} m/s (largest: satellite {worst}, {:.4} m/s)",
+                over.len(),
+                ledger[worst].1
+            ));
+        }
+    }
+    warnings
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regress_run_warnings_collisions_and_budget() {
+        let ledger = vec![([0.0; 3], 1.0), ([0.0; 3], 5.0), ([0.0; 3], 3.0)];
+        assert!(run_warnings(0, 10.0, &ledger, None).is_empty());
+        assert!(run_warnings(0, 10.0, &ledger, Some(5.0)).is_empty());
+        let w = run_warnings(2, -0.5, &ledger, Some(2.0));
+        assert_eq!(w.len(), 2);
+        assert!(w[0].contains("up to 2 pair(s)"), "{}", w[0]);
+        assert!(w[1].contains("2 satellite(s)") && w[1].contains("satellite 1"), "{}", w[1]);
+    }
+
+    #[test]
+    fn regress_output_dir_refuses_foreign_and_clears_previous_run() {
+        let dir = std::env::temp_dir().join(format!("satflock-outdir-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("summary.json"), "{}").unwrap();
+        std::fs::write(dir.join("metrics.csv"), "t_s\n").unwrap();
+        prepare_output_dir(&dir).unwrap();
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+        std::fs::write(dir.join("summary.json"), "{}").unwrap();
+        let e = prepare_output_dir(&dir).unwrap_err();
+        assert!(matches!(e, RunError::OutputDirectory { .. }));
+        assert!(e.to_string().contains("notes.txt"), "{e}");
+        // Nothing removed on refusal.
+        assert!(dir.join("summary.json").exists());
+        let file = dir.join("notes.txt");
+        assert!(matches!(
+            prepare_output_dir(&file),
+            Err(RunError::OutputDirectory { .. })
+        ));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

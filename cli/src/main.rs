@@ -1,10 +1,14 @@
 //! The `satflock` command-line tool: a thin layer over the library's public API.
 //!
-//! Exit codes: 0 success, 1 a run that failed (diverged, could not write), 2 bad arguments or input.
+//! Exit codes: 0 success, 1 a run that failed (diverged, could not write; collisions with
+//! `--fail-on-collision`), 2 bad arguments or input, 130 / 143 a run interrupted by SIGINT / SIGTERM
+//! (its files closed and `summary.json` written with status `interrupted`).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -16,7 +20,8 @@ use satflock::orbit::{
     hill_to_gao, CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame, Vector3,
 };
 use satflock::propagate::{propagate, PropagationSettings};
-use satflock::run::{run_scenario, RunError};
+use satflock::run::{run_scenario_with, RunError, RunOptions};
+use satflock::swarm::SimError;
 use satflock::scenario::{builtin, Scenario};
 
 #[derive(Parser)]
@@ -34,18 +39,28 @@ struct Cli {
 enum Command {
     /// Run a scenario (a TOML file or a built-in name) and write summary.json, metrics.csv and
     /// trajectory.csv into the output directory.
+    ///
+    /// SIGINT or SIGTERM stops the run after the current step: the files are closed, summary.json says
+    /// `interrupted`, and the exit code is 130 or 143 (a second signal exits at once).
+    #[command(allow_negative_numbers = true)]
     Run {
         /// Scenario file, or the name of a built-in scenario (see `satflock scenarios`).
         scenario: String,
-        /// Output directory (created if needed).
+        /// Output directory: a new path, an empty directory, or a previous satflock run's directory
+        /// (holding only summary.json, metrics.csv, trajectory.csv), whose files are removed before the
+        /// run starts. A directory holding anything else is refused.
         #[arg(long)]
         out: PathBuf,
-        /// Worker threads (default: all cores). Results do not depend on it.
-        #[arg(long)]
-        threads: Option<usize>,
+        /// Worker threads, 1 to 1024 (default: all cores). Results do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=MAX_THREADS))]
+        threads: Option<u16>,
         /// No progress bar.
         #[arg(long)]
         quiet: bool,
+        /// Exit with code 1 if satellites collided (by default a collision is a warning on stderr and in
+        /// summary.json's `warnings`, and the run exits 0).
+        #[arg(long)]
+        fail_on_collision: bool,
     },
     /// List the built-in scenarios.
     Scenarios,
@@ -55,6 +70,7 @@ enum Command {
         positions: PathBuf,
     },
     /// Propagate one orbit (no control) and write its states to CSV.
+    #[command(allow_negative_numbers = true)]
     Propagate(PropagateArgs),
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
     /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi` (see `satflock validate
@@ -158,9 +174,27 @@ struct PropagateArgs {
     out: PathBuf,
 }
 
+/// Largest `--threads`.
+const MAX_THREADS: i64 = 1024;
+
 /// An error in the user's input: exit code 2.
 #[derive(Debug)]
 struct UsageError(String);
+
+/// A run stopped by a signal (its summary is written): exit code 128 + the signal number.
+#[derive(Debug)]
+struct Interrupted {
+    signal: i32,
+    message: String,
+}
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Interrupted {}
 
 impl std::fmt::Display for UsageError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -182,7 +216,14 @@ fn main() -> ExitCode {
             out,
             threads,
             quiet,
-        } => run(&scenario, &out, threads, quiet),
+            fail_on_collision,
+        } => run(
+            &scenario,
+            &out,
+            threads.map(usize::from),
+            quiet,
+            fail_on_collision,
+        ),
         Command::Scenarios => {
             scenarios();
             Ok(())
@@ -195,7 +236,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            if e.downcast_ref::<UsageError>().is_some() {
+            if let Some(i) = e.downcast_ref::<Interrupted>() {
+                ExitCode::from((128 + i.signal) as u8)
+            } else if e.downcast_ref::<UsageError>().is_some() {
                 ExitCode::from(2)
             } else {
                 ExitCode::from(1)
@@ -204,10 +247,31 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Result<()> {
-    if threads == Some(0) {
-        return Err(usage("--threads 0 is out of range (allowed: >= 1)"));
+/// Routes SIGINT and SIGTERM to a cancel flag the run polls after every segment (and records which
+/// signal came); a second signal exits at once with code 1.
+fn install_signal_handlers() -> Result<(Arc<AtomicBool>, Arc<AtomicUsize>)> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let cancel = Arc::new(AtomicBool::new(false));
+    let which = Arc::new(AtomicUsize::new(0));
+    for signal in [SIGINT, SIGTERM] {
+        // Registered first, so it sees the flag as the previous signal left it.
+        signal_hook::flag::register_conditional_shutdown(signal, 1, cancel.clone())
+            .context("cannot install the signal handlers")?;
+        signal_hook::flag::register_usize(signal, which.clone(), signal as usize)
+            .context("cannot install the signal handlers")?;
+        signal_hook::flag::register(signal, cancel.clone())
+            .context("cannot install the signal handlers")?;
     }
+    Ok((cancel, which))
+}
+
+fn run(
+    scenario: &str,
+    out: &Path,
+    threads: Option<usize>,
+    quiet: bool,
+    fail_on_collision: bool,
+) -> Result<()> {
     let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
     // Validate before anything is created on disk.
     let duration_s = scenario
@@ -238,10 +302,17 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
         let rate = t_s / started.elapsed().as_secs_f64().max(1e-9);
         bar.set_message(format!("t = {t_s:.0} s ({rate:.1} sim-s/s)"));
     };
-    let outcome = pool.install(|| run_scenario(&scenario, out, &mut progress));
+    let (cancel, which) = install_signal_handlers()?;
+    let options = RunOptions {
+        cancel: Some(cancel),
+    };
+    let outcome = pool.install(|| run_scenario_with(&scenario, out, &options, &mut progress));
     bar.finish_and_clear();
     match outcome {
         Ok(summary) => {
+            for warning in &summary.warnings {
+                eprintln!("warning: {warning}");
+            }
             if !quiet {
                 eprintln!(
                     "{}: {} satellites, {} s simulated in {:.2} s ({:.3e} satellite-steps/s); outputs in {}",
@@ -253,9 +324,25 @@ fn run(scenario: &str, out: &Path, threads: Option<usize>, quiet: bool) -> Resul
                     out.display()
                 );
             }
+            if fail_on_collision && summary.collisions > 0 {
+                bail!(
+                    "{}: satellites collided (--fail-on-collision); see {}",
+                    summary.scenario,
+                    out.join("summary.json").display()
+                );
+            }
             Ok(())
         }
+        Err(RunError::Simulation(e @ SimError::Interrupted { .. })) => Err(Interrupted {
+            signal: which.load(Ordering::Relaxed) as i32,
+            message: format!(
+                "{e}; the files in {} are valid up to that time and summary.json says `interrupted`",
+                out.display()
+            ),
+        }
+        .into()),
         Err(RunError::Scenario(e)) => Err(usage(e.to_string())),
+        Err(e @ RunError::OutputDirectory { .. }) => Err(usage(e.to_string())),
         // A setup the engine refuses is the user's input (exit 2); a run that stopped is exit 1.
         Err(RunError::Simulation(e)) if e.is_setup() => {
             Err(usage(format!("{}: {e}", scenario.source)))
@@ -414,6 +501,13 @@ fn orbit(flag: &str, text: &str, by_elements: bool, mu: f64) -> Result<Cartesian
 }
 
 fn propagate_command(args: &PropagateArgs) -> Result<()> {
+    if args.out.is_dir() {
+        return Err(usage(format!(
+            "--out {}: is a directory (allowed: a file path, e.g. {})",
+            args.out.display(),
+            args.out.join("orbit.csv").display()
+        )));
+    }
     let defaults = EarthModel::WGS84_EGM96;
     let earth = EarthModel {
         mu_m3_s2: args.mu.unwrap_or(defaults.mu_m3_s2),
@@ -501,12 +595,20 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
     })?;
     // Write to a temporary file beside the target, then rename: no partial file on failure.
     let tmp = args.out.with_extension("csv.partial");
-    let mut file =
-        std::fs::File::create(&tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-    file.write_all(text.as_bytes())
-        .and_then(|_| file.sync_all())
-        .with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, &args.out)
-        .with_context(|| format!("cannot write {}", args.out.display()))?;
-    Ok(())
+    let written = std::fs::File::create(&tmp)
+        .with_context(|| format!("cannot create {}", tmp.display()))
+        .and_then(|mut file| {
+            file.write_all(text.as_bytes())
+                .and_then(|_| file.sync_all())
+                .with_context(|| format!("cannot write {}", tmp.display()))
+        })
+        .and_then(|_| {
+            std::fs::rename(&tmp, &args.out)
+                .with_context(|| format!("cannot write {}", args.out.display()))
+        });
+    if written.is_err() {
+        // Never leave the partial file behind.
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }

@@ -3,9 +3,14 @@
 //! law's own metrics) and, optionally, `trajectory.csv` (one row per live satellite per recording time:
 //! [`TRAJECTORY_HEADER`], then the laws' per-satellite outputs). Each snapshot is flushed as soon as it
 //! is written, so the files are complete, valid CSV up to the last recorded time even if a run stops.
+//!
+//! Whole records: each snapshot's rows are formatted into one buffer per file and handed to the system in
+//! one `write` (no `BufWriter` splitting a row across flushes), so a process killed outright (SIGKILL)
+//! loses whole records at the end of a file, never part of a row. A value that does not exist (NaN: a
+//! ratio at t = 0, a metric of an empty set) is an empty cell, never `NaN`.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use crate::swarm::{Recorder, Snapshot};
@@ -75,10 +80,11 @@ pub struct CsvColumns {
 
 /// Streams snapshots to CSV files in a directory.
 pub struct CsvRecorder {
-    metrics: BufWriter<File>,
+    metrics: File,
     columns: CsvColumns,
-    trajectory: Option<BufWriter<File>>,
+    trajectory: Option<File>,
     line: String,
+    block: String,
 }
 
 impl CsvRecorder {
@@ -89,7 +95,7 @@ impl CsvRecorder {
         write_trajectory: bool,
         columns: CsvColumns,
     ) -> std::io::Result<Self> {
-        let mut metrics = BufWriter::new(File::create(dir.join("metrics.csv"))?);
+        let mut metrics = File::create(dir.join("metrics.csv"))?;
         let mut header: Vec<&str> = METRICS_HEADER.to_vec();
         if columns.threats {
             header.extend_from_slice(THREAT_COLUMNS);
@@ -98,14 +104,12 @@ impl CsvRecorder {
             header.extend_from_slice(OBSTACLE_COLUMNS);
         }
         header.extend_from_slice(&columns.law_metrics);
-        writeln!(metrics, "{}", header.join(","))?;
-        metrics.flush()?;
+        metrics.write_all(format!("{}\n", header.join(",")).as_bytes())?;
         let trajectory = if write_trajectory {
-            let mut t = BufWriter::new(File::create(dir.join("trajectory.csv"))?);
+            let mut t = File::create(dir.join("trajectory.csv"))?;
             let mut header: Vec<&str> = TRAJECTORY_HEADER.to_vec();
             header.extend_from_slice(&columns.law_outputs);
-            writeln!(t, "{}", header.join(","))?;
-            t.flush()?;
+            t.write_all(format!("{}\n", header.join(",")).as_bytes())?;
             Some(t)
         } else {
             None
@@ -115,6 +119,7 @@ impl CsvRecorder {
             columns,
             trajectory,
             line: String::with_capacity(512),
+            block: String::new(),
         })
     }
 }
@@ -127,14 +132,15 @@ fn push_optional(line: &mut String, value: Option<f64>) {
     }
 }
 
-/// Formats a float so that it reads back to the same value (Rust's shortest round-trip form).
+/// Formats a float so that it reads back to the same value (Rust's shortest round-trip form); NaN (a
+/// value that does not exist) is an empty cell.
 fn push(line: &mut String, value: f64) {
     use std::fmt::Write as _;
     line.push(',');
     if value.is_finite() {
         let _ = write!(line, "{value}");
     } else if value.is_nan() {
-        line.push_str("NaN");
+        // Empty cell.
     } else if value > 0.0 {
         line.push_str("inf");
     } else {
@@ -190,12 +196,13 @@ impl Recorder for CsvRecorder {
                 None => line.push(','),
             }
         }
-        writeln!(self.metrics, "{line}")?;
-        self.metrics.flush()?;
+        line.push('\n');
+        self.metrics.write_all(line.as_bytes())?;
 
         if let Some(t) = &mut self.trajectory {
+            let line = &mut self.block;
+            line.clear();
             for &i in &live {
-                line.clear();
                 let _ = write!(line, "{},{}", s.time_s, i);
                 let r = &s.relative_states[i];
                 let e = &s.inertial_states[i];
@@ -216,9 +223,10 @@ impl Recorder for CsvRecorder {
                         None => line.push(','),
                     }
                 }
-                writeln!(t, "{line}")?;
+                line.push('\n');
             }
-            t.flush()?;
+            // The whole record in one piece.
+            t.write_all(line.as_bytes())?;
         }
         Ok(())
     }

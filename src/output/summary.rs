@@ -15,6 +15,9 @@ pub enum RunStatus {
     Completed,
     /// Stopped early; `error` says why.
     Failed,
+    /// Stopped by a signal (SIGINT, SIGTERM) after a whole segment; every file is valid up to
+    /// `simulated_s`.
+    Interrupted,
 }
 
 /// Delta-v statistics over the live satellites \[m/s\].
@@ -50,6 +53,9 @@ pub struct RunSummary {
     pub status: RunStatus,
     /// The error that stopped the run, if any.
     pub error: Option<String>,
+    /// What the run did that the user should know about although it completed (collisions, a delta-v
+    /// budget exceeded), one sentence each; the same sentences go to stderr.
+    pub warnings: Vec<String>,
     /// Number of satellites at the start.
     pub n_satellites: usize,
     /// Scenario duration \[s\].

@@ -494,6 +494,10 @@ pub struct OutputSection {
     /// Extra metadata copied into `summary.json`.
     #[serde(default)]
     pub tags: BTreeMap<String, String>,
+    /// Delta-v budget per satellite \[m/s\]: a satellite spending more gives a warning (stderr and
+    /// `summary.json`'s `warnings`). Absent: no budget.
+    #[serde(default)]
+    pub delta_v_budget_mps: Option<f64>,
 }
 
 fn default_true() -> bool {
@@ -505,6 +509,7 @@ impl Default for OutputSection {
         Self {
             trajectory: true,
             tags: BTreeMap::new(),
+            delta_v_budget_mps: None,
         }
     }
 }

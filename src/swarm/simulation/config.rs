@@ -257,6 +257,12 @@ pub enum SimError {
     /// The recorder could not write.
     #[error("recording failed: {0}")]
     Recording(#[from] std::io::Error),
+    /// The caller's cancel flag was set (a signal): the run stopped after a whole segment.
+    #[error("interrupted at t = {time_s} s")]
+    Interrupted {
+        /// Simulated time reached \[s\].
+        time_s: f64,
+    },
 }
 
 impl SimError {

@@ -33,7 +33,8 @@ mod sensing;
 mod snapshots;
 mod timeline;
 
-use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 
 use nalgebra::Vector3;
 
@@ -100,6 +101,8 @@ pub struct Simulation {
     record_count: u64,
     /// Whether the snapshot at t = 0 has been recorded.
     started: bool,
+    /// A flag another thread (a signal handler) may set to stop the run between segments.
+    cancel: Option<Arc<AtomicBool>>,
     totals: RunTotals,
     approach: ApproachMonitor,
     /// SS model of the reference orbit at t = 0, given to laws ([`crate::swarm::SharedInfo::reference_model`]).
@@ -107,6 +110,13 @@ pub struct Simulation {
 }
 
 impl Simulation {
+    /// Lets `flag` stop the run: the scheduler polls it after every segment (once that segment's
+    /// monitors, events and record are done) and, once it is set, returns [`SimError::Interrupted`] with
+    /// the time reached. The recorder has then received every snapshot up to that time.
+    pub fn set_cancel_flag(&mut self, flag: Arc<AtomicBool>) {
+        self.cancel = Some(flag);
+    }
+
     /// Builds a simulation. The satellites' initial states are relative to the reference orbit at t = 0.
     /// Checks that the setup can run: at least one satellite, a valid origin, events inside the run and
     /// naming satellites and threats that exist, a law whose commands the dynamics can follow, steps and
@@ -224,6 +234,7 @@ impl Simulation {
             step_count: 0,
             record_count: 1,
             started: false,
+            cancel: None,
             totals: RunTotals {
                 time_s: 0.0,
                 satellite_steps: 0,

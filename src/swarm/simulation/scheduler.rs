@@ -4,6 +4,8 @@
 //! and (sampled mode) the held command; then the segment is integrated, the truth monitors run, due
 //! events apply and the recorder gets a snapshot if it is a recording time.
 
+use std::sync::atomic::Ordering;
+
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -82,6 +84,16 @@ impl Simulation {
                 }
             }
             progress(self.time_s);
+            if self
+                .cancel
+                .as_ref()
+                .is_some_and(|flag| flag.load(Ordering::Relaxed))
+            {
+                self.totals.time_s = self.time_s;
+                return Err(SimError::Interrupted {
+                    time_s: self.time_s,
+                });
+            }
         }
         self.totals.time_s = self.time_s;
         Ok(())
