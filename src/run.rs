@@ -85,13 +85,11 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
             return std::fs::create_dir_all(dir).map_err(|e| output_error(dir, e));
         }
         Err(e) => return Err(output_error(dir, e)),
-        Ok(m) if !m.is_dir() => {
-            return Err(refuse(
-                "exists and is not a directory (allowed: a new path, an empty directory or a previous \
+        Ok(m) if !m.is_dir() => return Err(refuse(
+            "exists and is not a directory (allowed: a new path, an empty directory or a previous \
                  satflock run's directory)"
-                    .into(),
-            ))
-        }
+                .into(),
+        )),
         Ok(_) => {}
     }
     let mut found = Vec::new();
@@ -213,7 +211,12 @@ pub fn run_scenario_with(
             Err(_) => RunStatus::Failed,
         },
         error: outcome.as_ref().err().map(|e| e.to_string()),
-        warnings: run_warnings(totals.max_collisions, totals.min_separation_m, &ledger, budget_mps),
+        warnings: run_warnings(
+            totals.max_collisions,
+            totals.min_separation_m,
+            &ledger,
+            budget_mps,
+        ),
         n_satellites: n,
         duration_s,
         simulated_s: simulation.time_s(),
@@ -275,7 +278,9 @@ fn run_warnings(
         ));
     }
     if let Some(budget) = budget_mps {
-        let over: Vec<usize> = (0..ledger.len()).filter(|&i| ledger[i].1 > budget).collect();
+        let over: Vec<usize> = (0..ledger.len())
+            .filter(|&i| ledger[i].1 > budget)
+            .collect();
         if let Some(&worst) = over
             .iter()
             .max_by(|&&a, &&b| ledger[a].1.total_cmp(&ledger[b].1))
@@ -303,7 +308,11 @@ mod tests {
         let w = run_warnings(2, -0.5, &ledger, Some(2.0));
         assert_eq!(w.len(), 2);
         assert!(w[0].contains("up to 2 pair(s)"), "{}", w[0]);
-        assert!(w[1].contains("2 satellite(s)") && w[1].contains("satellite 1"), "{}", w[1]);
+        assert!(
+            w[1].contains("2 satellite(s)") && w[1].contains("satellite 1"),
+            "{}",
+            w[1]
+        );
     }
 
     #[test]

@@ -21,8 +21,8 @@ use satflock::orbit::{
 };
 use satflock::propagate::{propagate, PropagationSettings};
 use satflock::run::{run_scenario_with, RunError, RunOptions};
-use satflock::swarm::SimError;
 use satflock::scenario::{builtin, Scenario};
+use satflock::swarm::SimError;
 
 #[derive(Parser)]
 #[command(

@@ -231,3 +231,20 @@ impl Recorder for CsvRecorder {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn regress_nan_is_an_empty_cell_never_nan() {
+        let mut line = String::from("0");
+        push(&mut line, f64::NAN);
+        push(&mut line, 1.5);
+        push(&mut line, f64::INFINITY);
+        push_optional(&mut line, None);
+        push(&mut line, -f64::NAN);
+        assert_eq!(line, "0,,1.5,inf,,");
+        assert!(!line.to_ascii_lowercase().contains("nan"));
+    }
+}
