@@ -1,4 +1,4 @@
-//! `satflock validate gao`: the outcomes O1–O14 of `shared/specs/gao-bifurcating-potential.md` §6
+//! `satflock validate gao`: the outcomes O1–O14 of `docs/methods/bifurcating.md` §6
 //! (Gao, Li & Wei 2022), reproduced at full length from the built-in `gao-*` scenarios, several seeds
 //! where the outcome depends on the random initial state (the median is reported).
 //!
