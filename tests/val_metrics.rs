@@ -1,5 +1,5 @@
 //! Validation of `metrics::five_elements` and `metrics::separation` against closed forms, hand
-//! computations, the independent numpy computations quoted in `shared/specs/gao-bifurcating-potential.md`
+//! computations, the independent numpy computations quoted in `docs/methods/bifurcating.md`
 //! (§2, §5 and Appendix A), the paper's Table 3, and brute-force all-pairs loops.
 //!
 //! Point sets of the spec are unit-radius shapes; they are scaled to metres (×1000, the paper's km) where

@@ -1,7 +1,7 @@
 //! Validation of `satflock::relative` (HCW and Schweighart–Sedwick) against independent references:
 //! a fixed-step RK4 written here (not the crate's integrator), textbook HCW results (Vallado 4th ed.
 //! §6.8, Curtis §7.5) and the statements and verified table of
-//! `shared/specs/takahashi-sakai-j2-distance.md` §1.3, §2.3 and §2.4 ("spec" below).
+//! `docs/methods/j2-distance.md` §1.3, §2.3 and §2.4 ("spec" below).
 //!
 //! Relative errors of a state use the scaled norm `‖[r; v/n]‖` (velocities turned into lengths with
 //! the mean motion), so that positions and velocities weigh alike.

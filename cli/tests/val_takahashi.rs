@@ -1,4 +1,4 @@
-//! Reproduction of Takahashi & Sakai (spec `shared/specs/takahashi-sakai-j2-distance.md`) with the
+//! Reproduction of Takahashi & Sakai (spec `docs/methods/j2-distance.md`) with the
 //! `j2-distance` law, shortened to fit the test budget: the §4.1 comparison on the linear model (T1–T3
 //! of spec §11.2, 12 h instead of 24 h), a 24 h truth-J2 deployment into plane Θ1 (the early part of
 //! T4–T9 of §11.3; the full 120 h runs are in `satflock validate takahashi`), and the outage experiment

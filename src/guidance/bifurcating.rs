@@ -1,6 +1,6 @@
 //! The `bifurcating` law: cluster formation and reconfiguration by a bifurcating potential field
 //! (W. Gao, K. Li, C. Wei, *Aerospace* 9(3):137, 2022), as restated in
-//! `shared/specs/gao-bifurcating-potential.md` (cited below as "spec").
+//! `docs/methods/bifurcating.md` (cited below as "spec").
 //!
 //! Each satellite i computes, from its own state relative to the formation centre (the LVLH origin: the
 //! virtual reference orbit, or a member used as "target spacecraft", spec §3.5) and from the neighbours

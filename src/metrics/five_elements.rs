@@ -1,6 +1,6 @@
 //! Five-element cluster characterisation of Gao, Li & Wei, "Satellite Cluster Formation Reconfiguration
 //! Based on the Bifurcating Potential Field", *Aerospace* 9(3):137, 2022, §2.1, Eqs. 1–9, as restated in
-//! `shared/specs/gao-bifurcating-potential.md` §2.
+//! `docs/methods/bifurcating.md` §2.
 //!
 //! The five elements of a snapshot of N satellites with positions `r_i` and velocities `v_i`:
 //!

@@ -2,7 +2,7 @@
 //!
 //! | module | holds |
 //! | --- | --- |
-//! | [`mod@five_elements`] | the five-element cluster characterisation of Gao et al. 2022 (N, r_o/v_o, d_max, d_min, L), `shared/specs/gao-bifurcating-potential.md` §2 |
+//! | [`mod@five_elements`] | the five-element cluster characterisation of Gao et al. 2022 (N, r_o/v_o, d_max, d_min, L), `docs/methods/bifurcating.md` §2 |
 //! | [`separation`] | minimum centre-to-centre separation and hard-body collision counts |
 //!
 //! Large swarms (N = 1e5) are handled exactly, without O(N²) loops in the common cases: nearest

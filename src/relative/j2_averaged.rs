@@ -1,7 +1,7 @@
 //! Averaged-J2 relative orbital parameters C₁…C₆ of Takahashi & Sakai, built on the
 //! Schweighart–Sedwick (SS) model, with the connectable time and the user-defined swarm plane.
 //!
-//! Source: `shared/specs/takahashi-sakai-j2-distance.md` ("spec"), which restates and corrects
+//! Source: `docs/methods/j2-distance.md` ("spec"), which restates and corrects
 //! Y. Takahashi, S. Sakai, "Distance-based Relative Orbital Transition for Satellite Swarm Array
 //! Deployment Under J2 Perturbation". Sections implemented here:
 //!

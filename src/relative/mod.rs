@@ -8,7 +8,7 @@
 //! are in metres, velocities in metres per second *as seen in the rotating frame*, and a state is the
 //! 6-vector `[x, y, z, vx, vy, vz]` (`nalgebra::Vector6<f64>`). Control accelerations are Hill-frame
 //! 3-vectors in m/s². This is the frame {O} of the Takahashi–Sakai spec
-//! (`shared/specs/takahashi-sakai-j2-distance.md` §1.1), which states that {O} *is* the Hill/RSW
+//! (`docs/methods/j2-distance.md` §1.1), which states that {O} *is* the Hill/RSW
 //! convention, so no axis permutation or sign change is needed between the spec and this module.
 //!
 //! # Models

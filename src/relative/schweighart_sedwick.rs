@@ -2,7 +2,7 @@
 //!
 //! Source: S. A. Schweighart, R. J. Sedwick, "High-Fidelity Linearized J2 Model for Satellite
 //! Formation Flight", *J. Guidance, Control, and Dynamics* 25(6), 2002, as restated in
-//! `shared/specs/takahashi-sakai-j2-distance.md` (cited below as "spec").
+//! `docs/methods/j2-distance.md` (cited below as "spec").
 //!
 //! # Frame
 //!

@@ -179,7 +179,7 @@ fn integrators(checks: &mut Vec<Check>, notes: &mut Vec<String>) -> Result<(), V
     });
     checks.push(Check {
         id: "C5".into(),
-        outcome: "RKF7(8) at rtol 1e-12 vs the same reference (issue 3 expected agreement with RK4 < 1e-3 m)".into(),
+        outcome: "RKF7(8) at rtol 1e-12 vs the same reference (our original target: agreement with RK4 < 1e-3 m)".into(),
         paper: "< 1e-3 m".into(),
         ours: format!("{rk78:.2e} m (rtol 1e-13: {rk78_tight:.2e} m)"),
         verdict: verdict(rk78 < 1e-3),
@@ -188,7 +188,7 @@ fn integrators(checks: &mut Vec<Check>, notes: &mut Vec<String>) -> Result<(), V
         "C5: RKF7(8) controls the local error of its 7th-order solution to rtol·|y_i| per component and \
          propagates the 8th-order one; its global error is proportional to rtol ({rk78:.2e} m at 1e-12, \
          {rk78_tight:.2e} m at 1e-13), because velocity errors become along-track drift over 15 orbits. \
-         The 1 mm agreement the issue expected holds from rtol 1e-13."
+         The 1 mm agreement we first expected holds from rtol 1e-13."
     ));
     Ok(())
 }

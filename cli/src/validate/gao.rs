@@ -1,4 +1,4 @@
-//! `satflock validate gao`: the outcomes O1–O14 of `shared/specs/gao-bifurcating-potential.md` §6
+//! `satflock validate gao`: the outcomes O1–O14 of `docs/methods/bifurcating.md` §6
 //! (Gao, Li & Wei 2022), reproduced at full length from the built-in `gao-*` scenarios, several seeds
 //! where the outcome depends on the random initial state (the median is reported).
 //!
@@ -669,7 +669,7 @@ pub fn report() -> Result<Report, ValidateError> {
         "O10: the line is free along-track and spreads only by repulsion, so at 2000 s it is still \
          compressed: central spacing {gap1:.1} m (median of 5 seeds; {gap1_long:.1} m at {G1_LONG_S:.0} s) \
          with s = {:.0} m. A straight line is then unstable to the zigzag mode: its outward stiffness \
-         2 Σ_(odd j) k_c (s/(jδ) − 1) exceeds the line's restoring stiffness k_f a²|μ| = {:.0} N/m for \
+         4 Σ_(odd j ≥ 1, jδ < s) k_c (s/(jδ) − 1) exceeds the line's restoring stiffness k_f a²|μ| = {:.0} N/m for \
          spacings δ below {critical:.1} m (linear stability, from the gains alone). The thickness is this \
          buckling, not an error of the law; it shrinks as the line lengthens. G2 starts from the same \
          0.1 km ball on the ridge z = 0 of the double-well, which is unstable with stiffness −k_f a² μ = \
@@ -862,7 +862,7 @@ pub fn report() -> Result<Report, ValidateError> {
     notes.push(
         "O2: the analytic Table 3 rows (circle 0.8 %, sphere surface, double circle 35/15, disk rings) are \
          asserted in tests/val_metrics.rs. The filled rows ellipse disk, ellipsoidal and spherical space \
-         exceed every point set confined to the shape that the spec tried (spherical space 0.765 exceeds \
+         exceed every point set confined to the shape that we tried (spherical space 0.765 exceeds \
          close packing), so the generating sets are unknown; the Table 3 ellipse disk is 1/0.5, Fig. 19c \
          (simulated here) 1/0.6."
             .into(),
@@ -1054,7 +1054,7 @@ pub fn report() -> Result<Report, ValidateError> {
     ));
     Ok(Report {
         title:
-            "Gao, Li & Wei 2022, bifurcating potential field (spec gao-bifurcating-potential §6)"
+            "Gao, Li & Wei 2022, bifurcating potential field (Aerospace 9(3):137)"
                 .into(),
         reference_header: "reference".into(),
         checks,

@@ -61,7 +61,7 @@ pub const P5_MAX_X_M: f64 = 0.5;
 /// P7 gate on the pair separation \[m\] (spec §5).
 pub const P7_MIN_SEPARATION_M: f64 = 15.0;
 /// Amplitude of the group's swing about the target at which the extension's damping is chosen
-/// critically damped: the middle of the spec prototype's band d̄_T ≈ 150–600 m, i.e. r − R_L^2 ≈ 325 m.
+/// critically damped: the middle of the earlier prototype's band d̄_T ≈ 150–600 m, i.e. r − R_L^2 ≈ 325 m.
 pub const EXTENSION_SWING_M: f64 = 325.0;
 
 /// One run: a built-in scenario, a seed, optionally shortened, optionally with the extension.
@@ -758,7 +758,7 @@ pub fn report() -> Result<Report, ValidateError> {
         format!(
             "Extension (not in the paper, off by default): K^{{T,v}} = {damping:.3} 1/s on the dominant satellites, chosen as \
              critical damping of the group's centroid: internal forces cancel, so N a_c = |S_d| (−K^T (r − R_L^2)² − K^{{T,v}} v); \
-             linearised at r − R_L^2 = {EXTENSION_SWING_M} m (middle of the spec prototype's 150–600 m swing) ω² = (|S_d|/N) 2 K^T A, \
+             linearised at r − R_L^2 = {EXTENSION_SWING_M} m (middle of the earlier prototype's 150–600 m swing) ω² = (|S_d|/N) 2 K^T A, \
              ω = {omega:.4} rad/s, and critical damping needs (|S_d|/N) K^{{T,v}} = 2ω. Its worst runs: separation {ext_sep:.2} m, \
              clearance {ext_clear:.2} m."
         ),

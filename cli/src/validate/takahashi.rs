@@ -554,7 +554,7 @@ pub fn report() -> Result<Report, ValidateError> {
     checks.push(check(
         "T1",
         "§4.1 both laws: max|C1| < 1e-3 m and max|C4| < 1e-2 m within 6 h, < 1e-6 m within 12 h (main large / opp large / main small / opp small)",
-        "spec prototype: 1.5–3.0 h (first pair)",
+        "earlier prototype: 1.5–3.0 h (first pair)",
         format!(
             "{} / {} / {} / {}; 1e-6: {} / {} / {} / {}",
             fmt_h(get("large", true).settle_h),
@@ -573,7 +573,7 @@ pub fn report() -> Result<Report, ValidateError> {
     checks.push(check(
         "T2",
         "§4.1 small C1: median T̂_conn at 1 h, main ≥ 20× opp; opp fraction with growing |C1| ≥ 0.85; large C1: median larger for main",
-        "spec prototype: main 544–2086 h vs opp 4.0–8.2 h; opp fraction 0.92–1.00",
+        "earlier prototype: main 544–2086 h vs opp 4.0–8.2 h; opp fraction 0.92–1.00",
         format!(
             "small: main {:.1} h vs opp {:.2} h, opp growing {:.2} (main {:.2}); large: main {:.1} h vs opp {:.1} h; min T̂ at 1 h small main {:.1} h, opp {:.2} h",
             ms.median_tconn_1h_h, os.median_tconn_1h_h, os.growing_fraction, ms.growing_fraction,
@@ -601,13 +601,13 @@ pub fn report() -> Result<Report, ValidateError> {
         ));
     }
     notes.push(format!(
-        "T2 large-C1 clause (median T̂_conn at 1 h larger for main) by seed, ts-connectable-large: {}. The spec prototype's ranges over its seeds 1–3 are main 6–52 h vs opp 2.4–6.4 h; the clause depends on the draw.",
+        "T2 large-C1 clause (median T̂_conn at 1 h larger for main) by seed, ts-connectable-large: {}. The earlier prototype's ranges over its seeds 1–3 are main 6–52 h vs opp 2.4–6.4 h; the clause depends on the draw.",
         by_seed.join("; ")
     ));
     checks.push(check(
         "T3",
         "§4.1 mean sign changes of C1 per satellite: main ≤ ½ opp, both cases",
-        "spec prototype: large 0.6–1.0 vs 2.7–4.6; small 0.8–1.1 vs 3.9–4.3",
+        "earlier prototype: large 0.6–1.0 vs 2.7–4.6; small 0.8–1.1 vs 3.9–4.3",
         format!(
             "large {:.2} vs {:.2}; small {:.2} vs {:.2}",
             ml.mean_sign_changes, ol.mean_sign_changes, ms.mean_sign_changes, os.mean_sign_changes
@@ -656,7 +656,7 @@ pub fn report() -> Result<Report, ValidateError> {
         checks.push(check(
             &format!("T4 {label}"),
             "graph connected at every grouping update; saturation fraction < 5 % after 24 h",
-            "spec prototype: connected; <5 %",
+            "earlier prototype: connected; <5 %",
             format!(
                 "connected: {}; max saturated fraction after 24 h {:.1} %",
                 st.always_connected,
@@ -668,9 +668,9 @@ pub fn report() -> Result<Report, ValidateError> {
             &format!("T5 {label}"),
             "at 120 h, max|C1| < 1e-2 m, max|C4| < 0.1 m (γ_A = 10)",
             if *label == "Θ1" {
-                "spec prototype: 1.5e-3 m, 9.1e-3 m"
+                "earlier prototype: 1.5e-3 m, 9.1e-3 m"
             } else {
-                "spec prototype: 1.9e-3 m, 0.034 m"
+                "earlier prototype: 1.9e-3 m, 0.034 m"
             },
             format!("{:.2e} m, {:.2e} m", st.max_c1_m, st.max_c4_m),
             st.max_c1_m < 1e-2 && st.max_c4_m < 0.1,
@@ -678,7 +678,7 @@ pub fn report() -> Result<Report, ValidateError> {
         checks.push(check(
             &format!("T6 {label}"),
             "measured plane angles within 1° (Θ_P) and 1.5° (Θ_z-xy) of target, satellites with r_xy > 0.05 m",
-            if *label == "Θ1" { "target 30°, 0°; spec prototype 30.01–30.11°, 0.03–0.15°" } else { "target 40°, 50°; spec prototype 40.01–40.16°, 50.16–50.46°" },
+            if *label == "Θ1" { "target 30°, 0°; earlier prototype 30.01–30.11°, 0.03–0.15°" } else { "target 40°, 50°; earlier prototype 40.01–40.16°, 50.16–50.46°" },
             format!(
                 "{:.2}–{:.2}°, {:.2}–{:.2}°",
                 st.theta_p_deg.0, st.theta_p_deg.1, st.theta_zxy_deg.0, st.theta_zxy_deg.1
@@ -692,9 +692,9 @@ pub fn report() -> Result<Report, ValidateError> {
             &format!("T7 {label}"),
             "edge r_xy/r_xyd: median in [0.9, 1.05], p5–p95 in [0.65, 1.35]",
             if *label == "Θ1" {
-                "spec prototype 0.77 / 0.96 / 1.19"
+                "earlier prototype 0.77 / 0.96 / 1.19"
             } else {
-                "spec prototype 0.80 / 0.96 / 1.21"
+                "earlier prototype 0.80 / 0.96 / 1.21"
             },
             format!(
                 "{:.2} / {:.2} / {:.2}",
@@ -708,9 +708,9 @@ pub fn report() -> Result<Report, ValidateError> {
             &format!("T8 {label}"),
             "edge set unchanged over the last 24 h (≤ 1 %)",
             if *label == "Θ1" {
-                "spec prototype: frozen after 8 h"
+                "earlier prototype: frozen after 8 h"
             } else {
-                "spec prototype: frozen after 48 h"
+                "earlier prototype: frozen after 48 h"
             },
             format!(
                 "{} changes in total, last at {:.1} h",
@@ -722,9 +722,9 @@ pub fn report() -> Result<Report, ValidateError> {
             &format!("T9 {label}"),
             "min T̂_conn > 5 h for t ≥ 48 h (30 min samples)",
             if *label == "Θ1" {
-                "spec prototype ≥ 11.9 h (8 h samples); 55 h at 120 h"
+                "earlier prototype ≥ 11.9 h (8 h samples); 55 h at 120 h"
             } else {
-                "spec prototype ≥ 11.9 h (8 h samples); 45 h at 120 h"
+                "earlier prototype ≥ 11.9 h (8 h samples); 45 h at 120 h"
             },
             format!("{:.1} h", st.min_tconn_late_h),
             st.min_tconn_late_h > 5.0,
@@ -733,7 +733,7 @@ pub fn report() -> Result<Report, ValidateError> {
             checks.push(check(
                 "T10 Θ1",
                 "physical edge distance over one free orbit after 120 h: peak-to-peak / mean < 5 %",
-                "spec prototype: 2.2 %",
+                "earlier prototype: 2.2 %",
                 {
                     let ((a, b), c1, c4, rxy, tp, tz) = p2p.worst_edge;
                     format!(
@@ -751,7 +751,7 @@ pub fn report() -> Result<Report, ValidateError> {
         checks.push(check(
             &format!("T11 {label}"),
             "median over edges of RMS distance over the free orbit / r_avg in [0.9, 1.05]",
-            "spec prototype: 0.96",
+            "earlier prototype: 0.96",
             format!("{rms:.3}"),
             (0.9..=1.05).contains(rms),
         ));
@@ -774,7 +774,7 @@ pub fn report() -> Result<Report, ValidateError> {
         ));
     }
     notes.push(format!(
-        "Θ2 (ts-plane-2, defaults) by seed, first 4 h: {}. The split is two halves of about 50 satellites whose mean C1 differ by 0.4–0.5 m; once the grouping no longer links them, each half reaches its own C1 consensus and they drift apart at ε2·ΔC1 ≈ 5 m/h. Law, gains and grouping were checked line by line against spec §5–§9 and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
+        "Θ2 (ts-plane-2, defaults) by seed, first 4 h: {}. The split is two halves of about 50 satellites whose mean C1 differ by 0.4–0.5 m; once the grouping no longer links them, each half reaches its own C1 consensus and they drift apart at ε2·ΔC1 ≈ 5 m/h. Law, gains and grouping were checked line by line against the paper's Eqs. 8–16 and Algorithm 1 (our restatement: docs/methods/j2-distance.md §5–§9) and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
         sweep.join("; ")
     ));
     // Paper claims (qualitative).
@@ -841,7 +841,7 @@ pub fn report() -> Result<Report, ValidateError> {
         "see T6, T7".into(),
         p6 && p4,
     ));
-    notes.push("P5: under truth J2 the measured C1 and C4 keep small forced residuals from the inexact Schweighart–Sedwick no-drift condition (spec §3.5, §12 item 17); the paper's figures, unavailable, claim convergence to the origin.".into());
+    notes.push("P5: under truth J2 the measured C1 and C4 keep small forced residuals from the inexact Schweighart–Sedwick no-drift condition (docs/methods/j2-distance.md §3.5); the paper's figures, unavailable, claim convergence to the origin.".into());
     // Outage experiment (spec §8), truth model.
     for variant in [Variant::Main, Variant::Opp] {
         let s = scenario("ts-outage", Some(variant), None).map_err(failed)?;

@@ -2,7 +2,7 @@
 //! (main, Eq. 15) and the opposing baseline (Eq. 16), with the barrier s(r), the practical gain design,
 //! actuation bound and DT grouping.
 //!
-//! Source: `shared/specs/takahashi-sakai-j2-distance.md` ("spec"): §3 (parameters C₁…C₆, via
+//! Source: `docs/methods/j2-distance.md` ("spec"): §3 (parameters C₁…C₆, via
 //! [`crate::relative::j2_averaged`]), §5 (plane targets), §6.3 (antisymmetric pair terms), §7.1 (barrier,
 //! clamped), §7.2 (distance function with (ϱ, ς, τ) = (2c₊, 0, 1)), §7.3 (Eq. 15), §7.4 (Eq. 16), §7.6
 //! (gain design from the Laplacian eigenvalues, γ_B cap; or the §4.1 preset), §7.7 (norm saturation
