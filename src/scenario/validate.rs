@@ -740,7 +740,7 @@ fn check_orbit_size(
     let a = elements.semi_major_axis_m;
     let e = elements.eccentricity;
     let perigee_altitude_m = a * (1.0 - e) - earth.equatorial_radius_m;
-    if !(perigee_altitude_m >= MIN_PERIGEE_ALTITUDE_M) {
+    if perigee_altitude_m.is_nan() || perigee_altitude_m < MIN_PERIGEE_ALTITUDE_M {
         return Err(c.invalid(
             key,
             format!(
