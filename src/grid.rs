@@ -48,6 +48,11 @@ const GAP_FACTOR: f64 = 1.0 - 1e-8;
 /// At most this many cells per axis; thinner spreads get cells larger than the radius.
 const MAX_CELLS_PER_AXIS: f64 = 1_048_576.0;
 
+/// Smallest cell edge (m): four times the smallest normal f64. A subnormal radius (below 2.2e-308 m) would
+/// give a cell whose inverse is infinite, and the cell count per axis would wrap to 0; the edge is clamped
+/// up to this instead, which (like any cell larger than the radius) keeps the answers exact.
+const MIN_CELL_M: f64 = 4.0 * f64::MIN_POSITIVE;
+
 /// The dense layout is used when the bounding box holds at most `DENSE_CELLS_PER_POINT · N + DENSE_EXTRA_CELLS` cells.
 const DENSE_CELLS_PER_POINT: u64 = 8;
 /// See [`DENSE_CELLS_PER_POINT`].
@@ -224,12 +229,14 @@ impl NeighbourGrid {
         let extent = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
         let extent_max = extent[0].max(extent[1]).max(extent[2]);
         self.radius_m = radius_m;
-        self.cell_m = (radius_m * (1.0 + CELL_MARGIN)).max(extent_max / MAX_CELLS_PER_AXIS);
+        self.cell_m = (radius_m * (1.0 + CELL_MARGIN))
+            .max(extent_max / MAX_CELLS_PER_AXIS)
+            .max(MIN_CELL_M);
         self.inv_cell = 1.0 / self.cell_m;
         self.origin_m = lo;
         // The largest coordinate maps to floor(extent / cell), computed exactly as in `cell_coord`, so
         // every satellite's cell index is below `dims` (float casts saturate, so nothing can wrap).
-        self.dims = extent.map(|e| (e * self.inv_cell).floor() as u64 + 1);
+        self.dims = extent.map(|e| ((e * self.inv_cell).floor() as u64).saturating_add(1));
         let cells = self.dims[0]
             .saturating_mul(self.dims[1])
             .saturating_mul(self.dims[2]);
@@ -328,7 +335,7 @@ impl NeighbourGrid {
     }
 
     /// Cell edge used by the last build (m): the radius times (1 + 1e-6), or more for swarms spread over
-    /// more than 2^20 radii.
+    /// more than 2^20 radii, and never less than `4 * f64::MIN_POSITIVE` (a subnormal radius is clamped up).
     pub fn cell_size_m(&self) -> f64 {
         self.cell_m
     }

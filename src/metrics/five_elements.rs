@@ -26,7 +26,7 @@
 
 use rayon::prelude::*;
 
-use super::{check_radii, MetricsError};
+use super::{check_radii, MetricsError, MAX_COORDINATE};
 use crate::grid::NeighbourGrid;
 
 /// The five elements of a cluster snapshot (spec §2). Lengths in metres, velocities in metres per
@@ -110,6 +110,17 @@ pub fn five_elements(
         if let Some(index) = rows.iter().position(|r| !r.iter().all(|c| c.is_finite())) {
             return Err(MetricsError::NonFinite { what, index });
         }
+        if let Some(index) = rows
+            .iter()
+            .position(|r| r.iter().any(|c| c.abs() > MAX_COORDINATE))
+        {
+            return Err(MetricsError::OutOfRange {
+                what,
+                index,
+                value: rows[index].iter().fold(0.0, |m: f64, c| m.max(c.abs())),
+                limit: MAX_COORDINATE,
+            });
+        }
     }
     let a_max = radii_m.map(|a| check_radii(a, n)).transpose()?;
 
@@ -132,6 +143,26 @@ pub fn five_elements(
     let d_max_m = (0..n)
         .map(|i| norm(ws.x[i], ws.y[i], ws.z[i]))
         .fold(0.0, f64::max);
+
+    // Exact duplicates would make nearest-neighbour queries quadratic (every duplicate scans its whole
+    // cell), so a swarm with any is reduced to its distinct positions first.
+    if let Some(groups) = duplicate_groups(&ws.x, &ws.y, &ws.z) {
+        let (d_min_m, big_m, diameter_m, sum_m3) = with_duplicates(ws, &groups, radii_m)?;
+        let uniformity_l = if big_m > 0.0 {
+            sum_m3 / (big_m * big_m * big_m)
+        } else {
+            0.0
+        };
+        return Ok(FiveElements {
+            n,
+            r_o_m,
+            v_o_mps,
+            d_max_m,
+            diameter_m,
+            d_min_m,
+            uniformity_l,
+        });
+    }
 
     // Eq. 6: m_i = d_i / 2 from exact nearest neighbours.
     build_grid_for_spacing(&mut ws.grid, &ws.x, &ws.y, &ws.z)?;
@@ -178,6 +209,104 @@ pub fn five_elements(
         d_min_m,
         uniformity_l,
     })
+}
+
+/// Groups of satellites at exactly the same position (by the bits of their offsets), each group's members
+/// in ascending index, groups in order of their first member; `None` when all positions are distinct.
+fn duplicate_groups(x: &[f64], y: &[f64], z: &[f64]) -> Option<Vec<Vec<usize>>> {
+    let key = |i: usize| (x[i].to_bits(), y[i].to_bits(), z[i].to_bits());
+    let mut order: Vec<usize> = (0..x.len()).collect();
+    order.sort_unstable_by_key(|&i| (key(i), i));
+    if order.windows(2).all(|w| key(w[0]) != key(w[1])) {
+        return None;
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (k, &i) in order.iter().enumerate() {
+        if k > 0 && key(order[k - 1]) == key(i) {
+            groups.last_mut().expect("a group is open").push(i);
+        } else {
+            groups.push(vec![i]);
+        }
+    }
+    groups.sort_unstable_by_key(|g| g[0]);
+    Some(groups)
+}
+
+/// `(d_min, M, diameter, Σ m_i³)` of a swarm with duplicate positions, exactly as the general path would
+/// give them, in O(N log N): a satellite with a twin has m_i = 0; the others find their nearest neighbour
+/// among the distinct positions; cross-group pairs use each group's largest radius (and weight), and
+/// within a group the gap is minus its two largest radii.
+fn with_duplicates(
+    ws: &mut FiveElementsWorkspace,
+    groups: &[Vec<usize>],
+    radii_m: Option<&[f64]>,
+) -> Result<(f64, f64, f64, f64), MetricsError> {
+    let g = groups.len();
+    let ux: Vec<f64> = groups.iter().map(|m| ws.x[m[0]]).collect();
+    let uy: Vec<f64> = groups.iter().map(|m| ws.y[m[0]]).collect();
+    let uz: Vec<f64> = groups.iter().map(|m| ws.z[m[0]]).collect();
+    // Half nearest-neighbour distance of every distinct position (0 for a group of two or more).
+    let mut half_u = vec![0.0; g];
+    let mut nn_u = vec![0usize; g];
+    if g >= 2 {
+        build_grid_for_spacing(&mut ws.grid, &ux, &uy, &uz)?;
+        for k in 0..g {
+            let nb = ws
+                .grid
+                .nearest_neighbour(k)
+                .expect("a grid with two or more positions has a nearest neighbour");
+            nn_u[k] = nb.index;
+            if groups[k].len() == 1 {
+                half_u[k] = 0.5 * nb.distance_m;
+            }
+        }
+    }
+    let sum_m3: f64 = {
+        let mut m = vec![0.0; ws.x.len()];
+        for (k, members) in groups.iter().enumerate() {
+            for &i in members {
+                m[i] = half_u[k];
+            }
+        }
+        m.iter().map(|v| v * v * v).sum()
+    };
+    // Some group has two or more members, so d_min is at most 0 and never stays infinite.
+    let d_min_m = match radii_m {
+        None => 2.0 * half_u.iter().copied().fold(f64::INFINITY, f64::min),
+        Some(a) => {
+            let mut best = f64::INFINITY;
+            let mut a_u = vec![0.0; g];
+            for (k, members) in groups.iter().enumerate() {
+                let (mut top1, mut top2) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+                for &i in members {
+                    if a[i] > top1 {
+                        top2 = top1;
+                        top1 = a[i];
+                    } else if a[i] > top2 {
+                        top2 = a[i];
+                    }
+                }
+                a_u[k] = top1;
+                if members.len() >= 2 {
+                    best = best.min(0.0 - (top1 + top2));
+                }
+            }
+            if g >= 2 {
+                let a_max = a_u.iter().copied().fold(0.0, f64::max);
+                best = best.min(min_surface_gap(&ws.grid, &nn_u, &a_u, a_max));
+            }
+            best
+        }
+    };
+    let (big_m, diameter_m) = if g >= 2 {
+        (
+            0.5 * max_pair_sum(&ux, &uy, &uz, Some(&half_u), &mut ws.pairs),
+            max_pair_sum(&ux, &uy, &uz, None, &mut ws.pairs),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    Ok((d_min_m, big_m, diameter_m, sum_m3))
 }
 
 /// Mean of `rows`, returned as `(mean, mean - rows[0])`; the offsets from `rows[0]` are summed so that

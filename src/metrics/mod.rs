@@ -46,6 +46,21 @@ pub enum MetricsError {
         /// Index of the offending satellite.
         index: usize,
     },
+    /// A position or velocity component is finite but so large that squares of distances overflow.
+    #[error(
+        "{what} of satellite {index} has a coordinate of magnitude {value:e}, too large for distances \
+         (allowed: |coordinate| <= {limit:e}; check the units)"
+    )]
+    OutOfRange {
+        /// Which input (e.g. "position").
+        what: &'static str,
+        /// Index of the offending satellite.
+        index: usize,
+        /// The largest magnitude of its coordinates.
+        value: f64,
+        /// The limit, [`MAX_COORDINATE`].
+        limit: f64,
+    },
     /// A physical radius is negative, NaN or infinite.
     #[error("radius of satellite {index} must be finite and >= 0 m, got {radius_m} m")]
     InvalidRadius {
@@ -58,6 +73,10 @@ pub enum MetricsError {
     #[error(transparent)]
     Grid(#[from] NeighbourError),
 }
+
+/// Largest coordinate magnitude accepted by the metrics: squares of differences of coordinates up to
+/// 1e150 stay far below f64's 1.8e308, so no distance overflows to infinity.
+pub const MAX_COORDINATE: f64 = 1e150;
 
 /// Checks that `radii_m` has `n` finite, non-negative entries and returns the largest (m).
 pub(crate) fn check_radii(radii_m: &[f64], n: usize) -> Result<f64, MetricsError> {

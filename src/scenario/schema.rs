@@ -227,6 +227,11 @@ pub struct SatellitesSection {
     /// Per-satellite overrides (heterogeneous clusters).
     #[serde(default)]
     pub overrides: Vec<OverrideSection>,
+    /// Accept satellites that overlap at t = 0 (centres closer than the sum of their radii, or
+    /// coincident). Default `false`: such a start is refused, since every overlapping pair counts as a
+    /// collision from the first step.
+    #[serde(default)]
+    pub allow_initial_overlap: bool,
 }
 
 /// Frames an explicit list of initial states can be written in.

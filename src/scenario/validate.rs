@@ -27,6 +27,35 @@ use crate::swarm::{
 /// Largest eccentricity accepted for the circular-orbit linear models (HCW, Schweighart–Sedwick).
 const LINEAR_MODEL_MAX_ECCENTRICITY: f64 = 0.01;
 
+/// Largest `satellites.count`. Every satellite carries its state, the integrator's stages, its sensed
+/// neighbours and the law's scratch (several hundred bytes to a few kB), so 10^7 satellites already need
+/// several GB and hours per simulated orbit; a larger count is a typo, not a swarm this engine can run.
+pub const MAX_SATELLITES: usize = 10_000_000;
+
+/// Lowest perigee altitude of the reference orbit \[m\]: below 100 km (the Kármán line) drag, which no
+/// model here includes, brings a satellite down within hours.
+pub const MIN_PERIGEE_ALTITUDE_M: f64 = 100e3;
+
+/// Largest apogee radius of the reference orbit \[m\]: the Earth's Hill sphere (about 1.5 million km);
+/// beyond it the Sun, not the Earth, governs the motion, and the relative models lose meaning (a radius
+/// of 1e154 m or more even overflows them).
+pub const MAX_APOGEE_RADIUS_M: f64 = 1.5e9;
+
+/// A fixed integration step or a control period may be at most this fraction of the orbit period. With
+/// 100 RK4 steps per orbit (n h = 0.063 rad) the phase error of an oscillation of the orbit's frequency
+/// is (n h)^5 / 120 = 8e-9 rad per step, 1e-6 rad per orbit; at 10 steps per orbit it is 1e-2 rad per
+/// orbit, a visibly wrong orbit. A control sampled more coarsely than that cannot follow the orbital
+/// dynamics it acts on, whatever the law's own rate.
+pub const MAX_STEP_FRACTION_OF_PERIOD: f64 = 0.01;
+
+/// A velocity noise (1 sigma) may be at most this many times `n * sensing.range_m`, the relative velocity
+/// scale of orbital motion across the sensing range (a bounded relative orbit of size R moves at about
+/// 2 n R): beyond it the measured velocity of every neighbour is noise.
+pub const MAX_VELOCITY_NOISE_FACTOR: f64 = 10.0;
+
+/// Largest initial-state CSV file \[bytes\]: 10^7 satellites at about 100 bytes a row.
+pub const MAX_STATES_CSV_BYTES: u64 = 1 << 30;
+
 /// A validated scenario, ready to become a [`crate::swarm::Simulation`].
 pub struct Prepared {
     /// Scenario name.
@@ -178,6 +207,32 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         }
     };
 
+    // Steps and periods against the orbit period (the kinematic model has no orbital dynamics).
+    let period_s = std::f64::consts::TAU / mean_motion_rad_s;
+    let max_step_s = MAX_STEP_FRACTION_OF_PERIOD * period_s;
+    if dy.model != ModelName::Kinematic
+        && dy.integrator == crate::integrate::IntegratorMethod::Rk4
+        && step_s > max_step_s
+    {
+        return Err(c.invalid(
+            "dynamics.step_s",
+            format!(
+                "{step_s} s is too long for the fixed-step RK4 integrator on an orbit of period \
+                 {period_s:.1} s (allowed: (0, {max_step_s:.3}] s, 1/100 of the period, so that the \
+                 integration error stays below about 1e-6 rad per orbit)"
+            ),
+        ));
+    }
+    if dy.integrator == crate::integrate::IntegratorMethod::Rk4 && record_interval_s < step_s {
+        return Err(c.invalid(
+            "record_interval_s",
+            format!(
+                "{record_interval_s} s is shorter than dynamics.step_s = {step_s} s (allowed: \
+                 [dynamics.step_s, duration_s]: records are taken at steps)"
+            ),
+        ));
+    }
+
     // Control timing.
     let control = match (f.control.mode, f.control.period_s) {
         (ControlMode::Continuous, None) => ControlTiming::Continuous,
@@ -190,16 +245,33 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         (ControlMode::Sampled, None) => {
             return Err(c.invalid("control.period_s", "is required with mode = \"sampled\""))
         }
-        (ControlMode::Sampled, Some(p)) => ControlTiming::Sampled {
-            period_s: c.positive("control.period_s", p)?,
-        },
+        (ControlMode::Sampled, Some(p)) => {
+            let p = c.positive("control.period_s", p)?;
+            if dy.model != ModelName::Kinematic && p > max_step_s {
+                return Err(c.invalid(
+                    "control.period_s",
+                    format!(
+                        "{p} s is too long for an orbit of period {period_s:.1} s (allowed: (0, \
+                         {max_step_s:.3}] s, 1/100 of the period: a coarser control cannot follow the \
+                         orbital dynamics it acts on)"
+                    ),
+                ));
+            }
+            ControlTiming::Sampled { period_s: p }
+        }
     };
 
     // Satellites.
     let s = &f.satellites;
     let count = s.count;
-    if count == 0 {
-        return Err(c.invalid("satellites.count", "0 is out of range (allowed: >= 1)"));
+    if !(1..=MAX_SATELLITES).contains(&count) {
+        return Err(c.invalid(
+            "satellites.count",
+            format!(
+                "{count} is out of range (allowed: >= 1 and <= {MAX_SATELLITES}; beyond 10^7 satellites the \
+                 run needs more memory and time than one machine has)"
+            ),
+        ));
     }
     let origin = match (f.reference.origin, f.reference.origin_member) {
         (OriginName::Virtual, None) => Origin::VirtualReference,
@@ -280,12 +352,41 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         }
     }
 
+    check_initial_distances(&c, &satellites, origin, max_distance_m)?;
+    if !s.allow_initial_overlap {
+        check_initial_overlap(&c, &satellites)?;
+    }
+
     // Sensing.
+    let range_m = c.positive("sensing.range_m", f.sensing.range_m)?;
+    let position_noise_m =
+        c.non_negative("sensing.position_noise_m", f.sensing.position_noise_m)?;
+    if position_noise_m > range_m {
+        return Err(c.invalid(
+            "sensing.position_noise_m",
+            format!(
+                "{position_noise_m} m is larger than sensing.range_m = {range_m} m (allowed: [0, \
+                 sensing.range_m]: a 1-sigma error beyond the range makes every sensed position noise)"
+            ),
+        ));
+    }
+    let velocity_noise_mps =
+        c.non_negative("sensing.velocity_noise_mps", f.sensing.velocity_noise_mps)?;
+    let max_velocity_noise = MAX_VELOCITY_NOISE_FACTOR * mean_motion_rad_s * range_m;
+    if velocity_noise_mps > max_velocity_noise {
+        return Err(c.invalid(
+            "sensing.velocity_noise_mps",
+            format!(
+                "{velocity_noise_mps} m/s is out of range (allowed: [0, {max_velocity_noise:.3e}] m/s, \
+                 10 n R with n = {mean_motion_rad_s:.3e} rad/s and R = sensing.range_m: orbital \
+                 relative velocities across the sensing range are about 2 n R)"
+            ),
+        ));
+    }
     let sensing = Sensing {
-        range_m: c.positive("sensing.range_m", f.sensing.range_m)?,
-        position_noise_m: c.non_negative("sensing.position_noise_m", f.sensing.position_noise_m)?,
-        velocity_noise_mps: c
-            .non_negative("sensing.velocity_noise_mps", f.sensing.velocity_noise_mps)?,
+        range_m,
+        position_noise_m,
+        velocity_noise_mps,
     };
 
     let process_noise_m_s2 =
@@ -508,19 +609,62 @@ fn reference_orbit(
         c.finite("reference.position_eci_m", &p)?;
         c.finite("reference.velocity_eci_mps", &v)?;
         let state = CartesianState::new(Vector3::from(p), Vector3::from(v));
-        let elements = KeplerianElements::from_cartesian(&state, mu)
-            .map_err(|e| c.invalid("reference.position_eci_m", e.to_string()))?;
-        if elements.semi_major_axis_m * (1.0 - elements.eccentricity) <= earth.equatorial_radius_m {
+        let r_m = state.position_m.norm();
+        if r_m < earth.equatorial_radius_m {
             return Err(c.invalid(
                 "reference.position_eci_m",
-                "the orbit's perigee is inside the Earth",
+                format!(
+                    "|r| = {r_m} m is inside the Earth (radius {} m); this looks like kilometres \
+                     written as metres (allowed: a perigee altitude >= {MIN_PERIGEE_ALTITUDE_M} m)",
+                    earth.equatorial_radius_m
+                ),
             ));
         }
+        if r_m > MAX_APOGEE_RADIUS_M {
+            return Err(c.invalid(
+                "reference.position_eci_m",
+                format!(
+                    "|r| = {r_m:.6e} m is beyond the Earth's Hill sphere (allowed: <= \
+                     {MAX_APOGEE_RADIUS_M:e} m)"
+                ),
+            ));
+        }
+        let elements = KeplerianElements::from_cartesian(&state, mu)
+            .map_err(|e| c.invalid("reference.position_eci_m", e.to_string()))?;
+        check_orbit_size(c, "reference.position_eci_m", &elements, earth)?;
         return Ok((state, elements));
     }
     let a = match (r.semi_major_axis_m, r.altitude_m) {
-        (Some(a), None) => c.positive("reference.semi_major_axis_m", a)?,
-        (None, Some(h)) => earth.equatorial_radius_m + c.positive("reference.altitude_m", h)?,
+        (Some(a), None) => {
+            let a = c.positive("reference.semi_major_axis_m", a)?;
+            if a < earth.equatorial_radius_m {
+                return Err(c.invalid(
+                    "reference.semi_major_axis_m",
+                    format!(
+                        "{a} m is inside the Earth (radius {} m); this looks like kilometres \
+                         written as metres (did you mean {:e} m?) (allowed: a perigee altitude >= \
+                         {MIN_PERIGEE_ALTITUDE_M} m)",
+                        earth.equatorial_radius_m,
+                        a * 1e3
+                    ),
+                ));
+            }
+            a
+        }
+        (None, Some(h)) => {
+            let h = c.positive("reference.altitude_m", h)?;
+            if h < 1000.0 {
+                return Err(c.invalid(
+                    "reference.altitude_m",
+                    format!(
+                        "{h} m looks like kilometres written as metres (did you mean {:e} m?) \
+                         (allowed: >= {MIN_PERIGEE_ALTITUDE_M} m)",
+                        h * 1e3
+                    ),
+                ));
+            }
+            earth.equatorial_radius_m + h
+        }
         (Some(_), Some(_)) => {
             return Err(c.invalid(
                 "reference.altitude_m",
@@ -539,16 +683,24 @@ fn reference_orbit(
             format!("{e} is out of range (allowed: [0, 1))"),
         ));
     }
-    if a * (1.0 - e) <= earth.equatorial_radius_m {
-        return Err(c.invalid(
-            "reference.semi_major_axis_m",
-            format!(
-                "perigee radius {:.1} m is inside the Earth (allowed: a (1 - e) > {} m)",
-                a * (1.0 - e),
-                earth.equatorial_radius_m
-            ),
-        ));
-    }
+    let size_key = if r.altitude_m.is_some() {
+        "reference.altitude_m"
+    } else {
+        "reference.semi_major_axis_m"
+    };
+    check_orbit_size(
+        c,
+        size_key,
+        &KeplerianElements {
+            semi_major_axis_m: a,
+            eccentricity: e,
+            inclination_rad: 0.0,
+            raan_rad: 0.0,
+            arg_perigee_rad: 0.0,
+            true_anomaly_rad: 0.0,
+        },
+        earth,
+    )?;
     let Some(inc) = r.inclination_deg else {
         return Err(c.invalid("reference.inclination_deg", "missing (allowed: [0, 180])"));
     };
@@ -575,6 +727,42 @@ fn reference_orbit(
         .to_cartesian(mu)
         .map_err(|err| c.invalid("reference", err.to_string()))?;
     Ok((state, elements))
+}
+
+/// Refuses a reference orbit whose perigee altitude is below [`MIN_PERIGEE_ALTITUDE_M`] or whose apogee
+/// is beyond [`MAX_APOGEE_RADIUS_M`] (this also refuses an unbound orbit).
+fn check_orbit_size(
+    c: &Checker<'_>,
+    key: &str,
+    elements: &KeplerianElements,
+    earth: &EarthModel,
+) -> Result<(), ScenarioError> {
+    let a = elements.semi_major_axis_m;
+    let e = elements.eccentricity;
+    let perigee_altitude_m = a * (1.0 - e) - earth.equatorial_radius_m;
+    if perigee_altitude_m.is_nan() || perigee_altitude_m < MIN_PERIGEE_ALTITUDE_M {
+        return Err(c.invalid(
+            key,
+            format!(
+                "the perigee altitude a (1 - e) - R = {perigee_altitude_m:.1} m (a = {a} m, e = {e}) \
+                 is below {MIN_PERIGEE_ALTITUDE_M} m, where drag (not modelled) ends the orbit \
+                 (allowed: a (1 - e) >= {} m)",
+                earth.equatorial_radius_m + MIN_PERIGEE_ALTITUDE_M
+            ),
+        ));
+    }
+    let apogee_m = a * (1.0 + e);
+    if !(e < 1.0 && apogee_m <= MAX_APOGEE_RADIUS_M) {
+        return Err(c.invalid(
+            key,
+            format!(
+                "the apogee radius a (1 + e) = {apogee_m:.6e} m (a = {a:e} m, e = {e}) is beyond the \
+                 Earth's Hill sphere, where the Sun governs the motion (allowed: a (1 + e) <= \
+                 {MAX_APOGEE_RADIUS_M:e} m, e < 1)"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 fn initial_states(
@@ -673,7 +861,8 @@ fn initial_states(
             out
         }
         InitialSection::Csv { path, frame } => {
-            let full = scenario.base_dir.join(path);
+            let full = resolve_states_csv(&scenario.base_dir, path)
+                .map_err(|m| c.invalid(&format!("{key}.path"), m))?;
             let rows = read_states_csv(&full).map_err(|m| c.invalid(&format!("{key}.path"), m))?;
             if rows.len() != count {
                 return Err(c.invalid(
@@ -688,6 +877,96 @@ fn initial_states(
             rows.iter().map(|s| to_hill(*frame, s)).collect()
         }
     })
+}
+
+/// Refuses an initial state farther from the frame's origin than `dynamics.max_distance_m` (the run
+/// would stop at its first check with a divergence).
+fn check_initial_distances(
+    c: &Checker<'_>,
+    satellites: &[SatelliteInit],
+    origin: Origin,
+    max_distance_m: f64,
+) -> Result<(), ScenarioError> {
+    let centre = match origin {
+        Origin::Member(k) => satellites[k].relative_state.position_m,
+        Origin::VirtualReference => Vector3::zeros(),
+    };
+    for (i, sat) in satellites.iter().enumerate() {
+        let p = sat.relative_state.position_m;
+        let v = sat.relative_state.velocity_mps;
+        if !(p.iter().chain(v.iter()).all(|x| x.is_finite())) {
+            return Err(c.invalid(
+                "satellites.initial",
+                format!("the initial state of satellite {i} is not finite"),
+            ));
+        }
+        let d = (p - centre).norm();
+        if d > max_distance_m {
+            return Err(c.invalid(
+                "dynamics.max_distance_m",
+                format!(
+                    "satellite {i} starts {d:.6e} m from the frame's origin, beyond \
+                     dynamics.max_distance_m = {max_distance_m} m (allowed: every initial distance \
+                     <= dynamics.max_distance_m; raise it or move the satellite)"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses satellites that overlap at t = 0: centres closer than (or as close as) the sum of their radii,
+/// which counts coincident point satellites too. Exact, with the neighbour grid (O(N)).
+fn check_initial_overlap(
+    c: &Checker<'_>,
+    satellites: &[SatelliteInit],
+) -> Result<(), ScenarioError> {
+    let n = satellites.len();
+    if n < 2 {
+        return Ok(());
+    }
+    let a_max = satellites.iter().map(|s| s.radius_m).fold(0.0, f64::max);
+    let x: Vec<f64> = satellites
+        .iter()
+        .map(|s| s.relative_state.position_m.x)
+        .collect();
+    let y: Vec<f64> = satellites
+        .iter()
+        .map(|s| s.relative_state.position_m.y)
+        .collect();
+    let z: Vec<f64> = satellites
+        .iter()
+        .map(|s| s.relative_state.position_m.z)
+        .collect();
+    let mut grid = crate::grid::NeighbourGrid::new();
+    // A radius of 2 a_max finds every overlapping pair; with point satellites, the smallest positive
+    // radius still finds the coincident ones (the grid clamps its cell, not its inclusion rule).
+    grid.build(&x, &y, &z, (2.0 * a_max).max(f64::MIN_POSITIVE))
+        .map_err(|e| c.invalid("satellites.initial", e.to_string()))?;
+    for i in 0..n {
+        let mut hit: Option<(usize, f64)> = None;
+        grid.for_each_neighbour(i, |nb| {
+            if hit.is_none()
+                && nb.index > i
+                && nb.distance_m <= satellites[i].radius_m + satellites[nb.index].radius_m
+            {
+                hit = Some((nb.index, nb.distance_m));
+            }
+        });
+        if let Some((j, d)) = hit {
+            return Err(c.invalid(
+                "satellites.allow_initial_overlap",
+                format!(
+                    "satellites {i} and {j} overlap at t = 0: their centres are {d:.6e} m apart, \
+                     not more than the sum of their radii {:.6e} m (allowed: every pair farther apart \
+                     than the sum of its radii; spread the initial distribution, shrink \
+                     satellites.radius_m, or set satellites.allow_initial_overlap = true to run it anyway)",
+                    satellites[i].radius_m + satellites[j].radius_m
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn to_hill(frame: ListFrame, s: &[f64; 6]) -> RelativeStateHill {
@@ -705,7 +984,43 @@ fn to_hill(frame: ListFrame, s: &[f64; 6]) -> RelativeStateHill {
     }
 }
 
-/// Reads a CSV of states with header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps`.
+/// Resolves the `path` of a CSV of initial states: it must name a regular file inside the scenario's
+/// folder (after following `..` and symbolic links) of at most [`MAX_STATES_CSV_BYTES`].
+fn resolve_states_csv(base_dir: &Path, path: &str) -> Result<std::path::PathBuf, String> {
+    let base = base_dir
+        .canonicalize()
+        .map_err(|e| format!("the scenario's folder {}: {e}", base_dir.display()))?;
+    let full = base_dir
+        .join(path)
+        .canonicalize()
+        .map_err(|e| format!("`{path}`: {e}"))?;
+    if !full.starts_with(&base) {
+        return Err(format!(
+            "`{path}` resolves to {}, outside the scenario's folder {} (allowed: a file in that \
+             folder or below it)",
+            full.display(),
+            base.display()
+        ));
+    }
+    let meta = std::fs::metadata(&full).map_err(|e| format!("{}: {e}", full.display()))?;
+    if !meta.is_file() {
+        return Err(format!(
+            "{} is not a regular file (allowed: a regular CSV file)",
+            full.display()
+        ));
+    }
+    if meta.len() > MAX_STATES_CSV_BYTES {
+        return Err(format!(
+            "{} has {} bytes (allowed: at most {MAX_STATES_CSV_BYTES} bytes, 10^7 rows)",
+            full.display(),
+            meta.len()
+        ));
+    }
+    Ok(full)
+}
+
+/// Reads a CSV of states with header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps`. Errors name the file, the line
+/// and the column, never the file's content.
 fn read_states_csv(path: &Path) -> Result<Vec<[f64; 6]>, String> {
     const HEADER: [&str; 6] = ["x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
     let mut reader =
@@ -717,9 +1032,8 @@ fn read_states_csv(path: &Path) -> Result<Vec<[f64; 6]>, String> {
     let columns: Vec<&str> = header.iter().map(str::trim).collect();
     if columns != HEADER {
         return Err(format!(
-            "{}: header is `{}` (required: `{}`)",
+            "{}: line 1 is not the required header `{}`",
             path.display(),
-            columns.join(","),
             HEADER.join(",")
         ));
     }
@@ -730,7 +1044,7 @@ fn read_states_csv(path: &Path) -> Result<Vec<[f64; 6]>, String> {
         for (k, field) in record.iter().enumerate().take(6) {
             row[k] = field.trim().parse::<f64>().map_err(|_| {
                 format!(
-                    "{} line {}: column {} = `{field}` is not a number",
+                    "{} line {}: column {} is not a number",
                     path.display(),
                     line + 2,
                     HEADER[k]
@@ -836,7 +1150,18 @@ fn events(
                 EventAction::RestoreLinks(selection(c, &key("satellites"), satellites, count)?)
             }
             ActionSection::RemoveSatellite { satellite } => {
-                EventAction::RemoveSatellite(c.index(&key("satellite"), *satellite, count)?)
+                let id = c.index(&key("satellite"), *satellite, count)?;
+                if config.origin == Origin::Member(id) {
+                    return Err(c.invalid(
+                        &key("satellite"),
+                        format!(
+                            "satellite {id} is reference.origin_member, the origin of the relative \
+                             frame; removing it would freeze the frame (allowed: any other satellite, \
+                             or origin = \"virtual\")"
+                        ),
+                    ));
+                }
+                EventAction::RemoveSatellite(id)
             }
             ActionSection::FailThruster { satellite, axis } => EventAction::FailThruster {
                 satellite: c.index(&key("satellite"), *satellite, count)?,
