@@ -97,7 +97,18 @@ fn val_law_metrics_time_series_match_the_summary_at_the_end() {
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        // A value that does not exist is an empty cell (read back as NaN here).
+        .map(|l| {
+            l.split(',')
+                .map(|v| {
+                    if v.is_empty() {
+                        f64::NAN
+                    } else {
+                        v.parse().unwrap()
+                    }
+                })
+                .collect()
+        })
         .collect();
     assert_eq!(rows.len(), 3, "t = 0, 0.5 h, 1 h");
     let last = rows.last().unwrap();

@@ -1053,9 +1053,7 @@ pub fn report() -> Result<Report, ValidateError> {
         median(&inner.iter().map(|x| x.1).collect::<Vec<_>>()),
     ));
     Ok(Report {
-        title:
-            "Gao, Li & Wei 2022, bifurcating potential field (Aerospace 9(3):137)"
-                .into(),
+        title: "Gao, Li & Wei 2022, bifurcating potential field (Aerospace 9(3):137)".into(),
         reference_header: "reference".into(),
         checks,
         tables: Vec::new(),
