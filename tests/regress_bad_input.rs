@@ -474,3 +474,40 @@ fn regress_many_identical_points_are_not_quadratic() {
     assert_eq!(e.d_min_m, d_min);
     assert!((e.diameter_m - diameter).abs() <= 1e-9 * diameter);
 }
+
+/// A tiny step over a long run (`step_s = 1e-10` "never finishes") and a tiny record interval that
+/// would write hundreds of GB are refused with the size they imply, unless `[output] allow_large`.
+#[test]
+fn regress_runaway_step_and_output_size_are_refused_unless_allowed() {
+    // 4 satellites × 1e6 s / 1e-4 s = 4e10 satellite-steps > 1e10 (and the 1e-4 s step is within every
+    // other bound: below period/100, no law rate to violate with these soft gains).
+    let long = VALID
+        .replace("duration_s = 100.0", "duration_s = 1e6")
+        .replace("[law]", "[dynamics]\nstep_s = 1e-4\n\n[law]");
+    let message = refused_text(
+        &long.replace("record_interval_s = 10.0", "record_interval_s = 1e5"),
+        Path::new("."),
+        "dynamics.step_s",
+        &["satellite-steps", "allow_large"],
+    );
+    assert!(message.contains("4.000e10"), "{message}");
+    // 1e6 s recorded every 0.01 s for 4 satellites with a trajectory: 4e8 rows > 5e7.
+    let rows = VALID
+        .replace("duration_s = 100.0", "duration_s = 1e6")
+        .replace("record_interval_s = 10.0", "record_interval_s = 1.0");
+    refused_text(
+        &rows
+            .replace("count = 4", "count = 200")
+            .replace("radius_m = 50.0", "radius_m = 500.0"),
+        Path::new("."),
+        "record_interval_s",
+        &["rows", "allow_large"],
+    );
+    // The explicit key lets the size through (the scenario is otherwise valid).
+    let allowed = format!(
+        "{}\n[output]\nallow_large = true\n",
+        rows.replace("count = 4", "count = 200")
+            .replace("radius_m = 50.0", "radius_m = 500.0")
+    );
+    load_in(&allowed, Path::new(".")).expect("allow_large accepts the large output");
+}

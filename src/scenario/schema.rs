@@ -503,6 +503,10 @@ pub struct OutputSection {
     /// `summary.json`'s `warnings`). Absent: no budget.
     #[serde(default)]
     pub delta_v_budget_mps: Option<f64>,
+    /// Accept runs beyond 10^10 satellite-steps and outputs beyond 5·10^7 CSV rows (default false: such
+    /// sizes are refused as a likely unit mistake).
+    #[serde(default)]
+    pub allow_large: bool,
 }
 
 fn default_true() -> bool {
@@ -515,6 +519,7 @@ impl Default for OutputSection {
             trajectory: true,
             tags: BTreeMap::new(),
             delta_v_budget_mps: None,
+            allow_large: false,
         }
     }
 }

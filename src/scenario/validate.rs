@@ -24,6 +24,15 @@ use crate::swarm::{
     SatelliteInit, Selection, Sensing, SimError, SimulationConfig, ThrustAxis,
 };
 
+/// Largest run (satellites × base steps) accepted without `[output] allow_large = true`: about an hour of
+/// the engine's throughput on two cores (~10^6 satellite-steps/s), far beyond any paper's run; a larger
+/// count is almost always a step or duration in the wrong unit.
+const MAX_SATELLITE_STEPS: f64 = 1e10;
+
+/// Largest number of CSV rows (recordings × satellites with a trajectory, recordings without) accepted
+/// without `[output] allow_large = true`: about 10 GB of text.
+const MAX_OUTPUT_ROWS: f64 = 5e7;
+
 /// Largest eccentricity accepted for the circular-orbit linear models (HCW, Schweighart–Sedwick).
 const LINEAR_MODEL_MAX_ECCENTRICITY: f64 = 0.01;
 
@@ -272,6 +281,45 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
                  run needs more memory and time than one machine has)"
             ),
         ));
+    }
+    // Run and output size: a tiny step or record interval that would run or write far beyond what a
+    // user means is refused unless asked for explicitly.
+    if !f.output.allow_large {
+        let base_step_s = match control {
+            ControlTiming::Sampled { period_s } => period_s.min(step_s),
+            ControlTiming::Continuous => step_s,
+        };
+        let satellite_steps = duration_s / base_step_s * count as f64;
+        if satellite_steps > MAX_SATELLITE_STEPS {
+            let key = match control {
+                ControlTiming::Sampled { period_s } if period_s < step_s => "control.period_s",
+                _ => "dynamics.step_s",
+            };
+            return Err(c.invalid(
+                key,
+                format!(
+                    "{base_step_s} s over duration_s = {duration_s} s for {count} satellites is \
+                     {satellite_steps:.3e} satellite-steps (allowed: <= {MAX_SATELLITE_STEPS:.0e} unless \
+                     [output] allow_large = true)"
+                ),
+            ));
+        }
+        let rows = (duration_s / record_interval_s + 1.0)
+            * if f.output.trajectory {
+                count as f64
+            } else {
+                1.0
+            };
+        if rows > MAX_OUTPUT_ROWS {
+            return Err(c.invalid(
+                "record_interval_s",
+                format!(
+                    "{record_interval_s} s over duration_s = {duration_s} s writes {rows:.3e} rows \
+                     (allowed: <= {MAX_OUTPUT_ROWS:.0e} unless [output] allow_large = true; or turn \
+                     [output] trajectory off)"
+                ),
+            ));
+        }
     }
     let origin = match (f.reference.origin, f.reference.origin_member) {
         (OriginName::Virtual, None) => Origin::VirtualReference,
