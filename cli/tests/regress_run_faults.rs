@@ -87,6 +87,32 @@ fn assert_whole_rows(path: &Path) -> usize {
     rows
 }
 
+/// After a SIGKILL: every newline-terminated line has the header's column count; only a final,
+/// unterminated line may be cut (the kernel may split one large write() when a fatal signal arrives, so
+/// whole-record writes make a torn record rare, not impossible — readers drop an unterminated last line,
+/// as docs/outputs.md says). Returns the number of whole data rows.
+fn assert_whole_rows_but_an_unterminated_tail(path: &Path) -> usize {
+    let text = std::fs::read_to_string(path).unwrap();
+    let whole = match text.rfind('\n') {
+        Some(k) => &text[..=k],
+        None => "",
+    };
+    let mut lines = whole.lines();
+    let columns = lines.next().expect("a header").split(',').count();
+    let mut rows = 0;
+    for (k, line) in lines.enumerate() {
+        assert_eq!(
+            line.split(',').count(),
+            columns,
+            "{} line {}: `{line}`",
+            path.display(),
+            k + 2
+        );
+        rows += 1;
+    }
+    rows
+}
+
 fn line_count(path: &Path) -> usize {
     std::fs::read(path)
         .map(|b| b.iter().filter(|&&c| c == b'\n').count())
@@ -181,8 +207,9 @@ fn regress_sigint_exits_130_with_interrupted_summary() {
 
 #[test]
 fn regress_sigkill_leaves_only_whole_trajectory_rows() {
-    // Each record (50 rows of trajectory.csv) is written in one piece: a SIGKILL at any moment loses
-    // whole records only. Repeated to land the kill at different points of the writing.
+    // Each record (50 rows of trajectory.csv) is written in one piece: a SIGKILL loses whole records,
+    // except that the kernel may cut one large write() short, leaving an unterminated last line (seen
+    // once under heavy load). Repeated to land the kill at different points of the writing.
     let dir = temp_dir("sigkill");
     let scenario = long_free_drift(&dir);
     for attempt in 0..3 {
@@ -190,8 +217,8 @@ fn regress_sigkill_leaves_only_whole_trajectory_rows() {
         let mut child = spawn_until(&scenario, &out, "trajectory.csv", 2000 + 3000 * attempt);
         kill(&child, "KILL");
         child.wait().unwrap();
-        assert!(assert_whole_rows(&out.join("trajectory.csv")) >= 2000);
-        assert_whole_rows(&out.join("metrics.csv"));
+        assert!(assert_whole_rows_but_an_unterminated_tail(&out.join("trajectory.csv")) >= 2000);
+        assert_whole_rows_but_an_unterminated_tail(&out.join("metrics.csv"));
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
