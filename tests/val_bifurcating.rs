@@ -1,6 +1,6 @@
-//! Validation of the `bifurcating` law (spec `gao-bifurcating-potential.md` §3) against independent
+//! Validation of the `bifurcating` law (method page `docs/methods/bifurcating.md` §3) against independent
 //! references: the analytic formation force against central finite differences of the potential for
-//! every shape family, the equilibria of Tables 1–2 (spec §3.4), the spring repulsion of §3.2 and its
+//! every shape family, the equilibria of Tables 1–2 (method page §3.4), the spring repulsion of §3.2 and its
 //! Newton's-third-law symmetry, the frame mapping at the law's boundary, the parameter checks and the
 //! engine's refusal of a step too long for k_v/m.
 
@@ -16,7 +16,7 @@ use satflock::swarm::{
     SatelliteInit, Sensing, SimError, Simulation, SimulationConfig,
 };
 
-/// Spec §4.2 defaults in SI: k_f = 3 kg/(km s²), k_c = 0.25, k_v = 2000, s = 0.2 km, σ = 10 km.
+/// Method page §4.2 defaults in SI: k_f = 3 kg/(km s²), k_c = 0.25, k_v = 2000, s = 0.2 km, σ = 10 km.
 fn params(
     dimension: Dimension,
     a: f64,
@@ -41,7 +41,7 @@ fn params(
     }
 }
 
-/// Every shape family of spec §3.4 (Tables 1–2, Figs. 7–10 and 19).
+/// Every shape family of method page §3.4 (Tables 1–2, Figs. 7–10 and 19).
 fn families() -> Vec<(&'static str, BifurcatingParameters)> {
     use Dimension::{Planar, Spatial};
     vec![
@@ -81,8 +81,8 @@ fn families() -> Vec<(&'static str, BifurcatingParameters)> {
 /// F_f = −∇U_f against a central difference of U_f on a 7×5×7 grid over ±2.1 km for every family.
 /// Step h = 1e-3 m: the truncation error of the central difference is h²/6·U''' ~ 1e-10 relative for
 /// U''' ~ k_f, and rounding is ε·|U|/h ~ 1e-16·1e4 J / 1e-3 m ~ 1e-9 N against forces of 1 to 1e4 N;
-/// the tolerance 1e-7 relative (floor 1e-9 N for tiny forces) is what the spec asks. Points with ρ < 1 m
-/// are skipped: inside the ε ball the force is the regularised one, not a gradient (spec §3.4).
+/// the tolerance 1e-7 relative (floor 1e-9 N for tiny forces) is what the method page asks. Points with ρ < 1 m
+/// are skipped: inside the ε ball the force is the regularised one, not a gradient (method page §3.4).
 #[test]
 fn val_formation_force_is_minus_gradient_for_every_family() {
     let h = 1e-3;
@@ -116,7 +116,7 @@ fn val_formation_force_is_minus_gradient_for_every_family() {
     }
 }
 
-/// Spec §3.4 equilibria: the force vanishes (to rounding, 1e-9 N against forces of ~1e3 N one metre
+/// Method page §3.4 equilibria: the force vanishes (to rounding, 1e-9 N against forces of ~1e3 N one metre
 /// away) on the exact level sets of Tables 1–2 as corrected, and points back toward them from ±1 m.
 #[test]
 fn val_equilibria_are_the_corrected_level_sets() {
@@ -189,7 +189,7 @@ fn val_equilibria_are_the_corrected_level_sets() {
     }
 }
 
-/// Spec §3.4 singular point: with a·b·r > 0 and μ < a·b·r the centre is a repelling cone point;
+/// Method page §3.4 singular point: with a·b·r > 0 and μ < a·b·r the centre is a repelling cone point;
 /// the regularised force is continuous, linear inside ε and exactly zero at the origin.
 #[test]
 fn val_regularised_cone_point() {
@@ -204,14 +204,14 @@ fn val_regularised_cone_point() {
     // e differs from −abr by ε = 1e-3 m, i.e. 2e-6 relative).
     let expected = 3e-3 * 500.0 * (500.0 + 5000.0);
     assert!(edge.x > 0.0 && (edge.x - expected).abs() <= 3e-6 * expected);
-    // The spec §1.2 check: k_f = 3 kg/(km s²), e = −0.45 km, μ = −5 km → |F| = 7360 N (exact in SI).
+    // The method page §1.2 check: k_f = 3 kg/(km s²), e = −0.45 km, μ = −5 km → |F| = 7360 N (exact in SI).
     let f = p
         .formation_force_gao_n(&Vector3::new(50.0, 0.0, 0.0))
         .norm();
     assert!((f - 3e-3 * 450.0 * 5450.0).abs() <= 1e-9 * f && (f - 7357.5).abs() < 1e-6);
 }
 
-/// Parameter sets that make no formation are refused with the key and the allowed range (spec §3.4).
+/// Parameter sets that make no formation are refused with the key and the allowed range (method page §3.4).
 #[test]
 fn val_parameter_checks_name_the_key() {
     let ok = params(Dimension::Planar, 1.0, 1.0, 1.0, 1000.0, 500.0);
@@ -347,7 +347,7 @@ fn sats(positions_hill_m: &[[f64; 3]], velocity: [f64; 3]) -> Vec<SatelliteInit>
         .collect()
 }
 
-/// The engine refuses an RK4 step or a control period too long for k_v/m = 20 1/s (spec §3.7: the
+/// The engine refuses an RK4 step or a control period too long for k_v/m = 20 1/s (method page §3.7: the
 /// damping alone needs h < 0.07 s for RK4 and a hold period below 0.05 s), and accepts 0.05 s.
 #[test]
 fn val_stiff_damping_refuses_long_steps() {
@@ -388,7 +388,7 @@ fn val_stiff_damping_refuses_long_steps() {
     }
 }
 
-/// Spec §3.1–3.2 at the law's boundary, on HCW dynamics (ω = n): the command equals
+/// Method page §3.1–3.2 at the law's boundary, on HCW dynamics (ω = n): the command equals
 /// (C^T F_f(C q) + F_c − k_v v)/m computed by hand, the pair forces are opposite (Newton's third law),
 /// coincident satellites are split deterministically along ±x_Gao, and F_c has the spring magnitude
 /// k_c (s − d). Tolerance 1e-12 relative: same formulas, different evaluation order.

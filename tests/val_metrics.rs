@@ -1,8 +1,8 @@
 //! Validation of `metrics::five_elements` and `metrics::separation` against closed forms, hand
-//! computations, the independent numpy computations quoted in `docs/methods/bifurcating.md`
-//! (§2, §5 and Appendix A), the paper's Table 3, and brute-force all-pairs loops.
+//! computations, the independent numpy computations of our reconstruction (`docs/methods/bifurcating.md`
+//! §2 quotes one), the paper's Table 3, and brute-force all-pairs loops.
 //!
-//! Point sets of the spec are unit-radius shapes; they are scaled to metres (×1000, the paper's km) where
+//! Point sets of the paper's Table 3 are unit-radius shapes; they are scaled to metres (×1000, the paper's km) where
 //! it does not matter, since L is scale-invariant.
 
 use std::f64::consts::PI;
@@ -36,7 +36,7 @@ fn ring(n: usize, r: f64) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Fibonacci sphere of the spec's Appendix A: `z_k = 1 - 2 (k + ½) / N`, angle `π (1 + √5) (k + ½)`.
+/// Fibonacci sphere of our reconstruction: `z_k = 1 - 2 (k + ½) / N`, angle `π (1 + √5) (k + ½)`.
 fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {
     (0..n)
         .map(|k| {
@@ -49,7 +49,7 @@ fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Spec §5 disk lattice "3 rings + centre": 1 + 8 + 16 + 25 points on radii 0, 1/3, 2/3, 1.
+/// Method page §5 disk lattice "3 rings + centre": 1 + 8 + 16 + 25 points on radii 0, 1/3, 2/3, 1.
 fn disk_rings() -> Vec<[f64; 3]> {
     let mut p = vec![[0.0; 3]];
     p.extend(ring(8, 1.0 / 3.0));
@@ -58,7 +58,7 @@ fn disk_rings() -> Vec<[f64; 3]> {
     p
 }
 
-/// Spec §5 double circle: 35 points on r = 1 and 15 on r = 0.4 (split proportional to circumference).
+/// Method page §5 double circle: 35 points on r = 1 and 15 on r = 0.4 (split proportional to circumference).
 fn double_circle() -> Vec<[f64; 3]> {
     let mut p = ring(35, 1.0);
     p.extend(ring(15, 0.4));
@@ -71,7 +71,7 @@ fn scaled(p: &[[f64; 3]], s: [f64; 3]) -> Vec<[f64; 3]> {
         .collect()
 }
 
-/// Independent Appendix A loop (raw coordinates, no centring): (L, diameter, d_max, d_min).
+/// Independent loop (raw coordinates, no centring): (L, diameter, d_max, d_min).
 fn brute_elements(p: &[[f64; 3]]) -> (f64, f64, f64, f64) {
     let n = p.len();
     let dist = |a: [f64; 3], b: [f64; 3]| {
@@ -117,7 +117,7 @@ fn brute_elements(p: &[[f64; 3]]) -> (f64, f64, f64, f64) {
     (l, diameter, d_max, d_min)
 }
 
-/// Spec §2 closed form for an even number N of equally spaced points on a circle:
+/// Method page §2 closed form for an even number N of equally spaced points on a circle:
 /// m = R sin(π/N), M = R + m (Eq. 8; the antipodal pair), L = N (sin(π/N) / (1 + sin(π/N)))³.
 /// For N = 50 that is 0.0103112. (The paper's Eq. 28 uses the arc length m = πR/N and M = R + 2m,
 /// giving N (π / (N + 2π))³ = 0.008695, which it rounds to "≈ 0.01"; that formula is inconsistent with
@@ -131,7 +131,7 @@ fn val_circle_closed_form() {
     let l = elements(&ring(50, 1000.0)).uniformity_l;
     // 1e-9 relative: the closed form and the computation differ only by rounding (~1e-15).
     assert!(rel_err(l, closed(50)) < 1e-9, "L = {l}");
-    // The spec quotes 0.0103112: agreement to half a unit of its last digit.
+    // `docs/methods/bifurcating.md` §2 quotes 0.0103112: agreement to half a unit of its last digit.
     assert!((l - 0.0103112).abs() <= 0.5e-7, "L = {l}");
 }
 
@@ -157,21 +157,21 @@ fn val_circle_closed_form_large_n() {
     );
 }
 
-/// Spec Appendix A: the Fibonacci sphere with N = 50 gives L = 0.335296 (numpy, f64).
+/// Our reconstruction: the Fibonacci sphere with N = 50 gives L = 0.335296 (numpy, f64).
 #[test]
 fn val_fibonacci_sphere_appendix_a() {
     let l = elements(&fibonacci_sphere(50)).uniformity_l;
-    // Half a unit of the last quoted digit (5e-7 absolute, 1.5e-6 relative): the spec rounds to 6 digits.
+    // Half a unit of the last quoted digit (5e-7 absolute, 1.5e-6 relative): the reference value is rounded to 6 digits.
     assert!((l - 0.335296).abs() <= 5e-7, "L = {l}");
 }
 
-/// Spec §5: our point sets against the spec's own numpy values (half a unit of the last quoted digit)
-/// and against the paper's Table 3 with the tolerances the spec assigns (the paper's point sets are
+/// Method page §5: our point sets against our own numpy values (half a unit of the last quoted digit)
+/// and against the paper's Table 3 with the tolerances our reconstruction assigns (the paper's point sets are
 /// unknown; §5 explains each gap).
 #[test]
 fn val_table3_rows() {
     let rows = [
-        // (row, set, spec numpy value, paper Table 3 value, tolerance vs paper)
+        // (row, set, our numpy value, paper Table 3 value, tolerance vs paper)
         ("circle r=1", ring(50, 1.0), 0.010311, 0.010233, 0.01),
         (
             "sphere surface r=1",
@@ -197,12 +197,12 @@ fn val_table3_rows() {
     ];
     for (name, set, spec, paper, tol) in rows {
         let l = elements(&set).uniformity_l;
-        assert!((l - spec).abs() <= 5e-7, "{name}: L = {l}, spec {spec}");
+        assert!((l - spec).abs() <= 5e-7, "{name}: L = {l}, ours {spec}");
         assert!(rel_err(l, paper) <= tol, "{name}: L = {l}, paper {paper}");
     }
 }
 
-/// Spec §5: the rows not reproducible in value only have to keep the paper's ordering:
+/// Method page §5: the rows not reproducible in value only have to keep the paper's ordering:
 /// in-plane < stereo, curve < filled, single < double ring.
 #[test]
 fn val_table3_orderings() {
@@ -210,8 +210,8 @@ fn val_table3_orderings() {
     let circle = l(ring(50, 1.0));
     let double = l(double_circle());
     let disk = l(disk_rings());
-    // Ellipse 1/0.6 at equal parameter angle (spec: 0.006124); ellipse disk 1/0.5 as scaled rings
-    // (spec: 0.019–0.026); ellipsoid surface 1/0.8/0.6 as a scaled Fibonacci sphere (spec: 0.188251).
+    // Ellipse 1/0.6 at equal parameter angle (our numpy value: 0.006124); ellipse disk 1/0.5 as scaled rings
+    // (our numpy value: 0.019–0.026); ellipsoid surface 1/0.8/0.6 as a scaled Fibonacci sphere (our numpy value: 0.188251).
     let ellipse = l(scaled(&ring(50, 1.0), [1.0, 1.0, 0.6]));
     let ellipse_disk = l(scaled(&disk_rings(), [1.0, 1.0, 0.5]));
     let sphere = l(fibonacci_sphere(50));
@@ -440,7 +440,7 @@ fn val_degenerate_and_bad_input() {
         (e.uniformity_l, e.d_min_m, e.diameter_m, e.d_max_m),
         (0.0, 0.0, 0.0, 0.0)
     );
-    // Two of three coincident: their m = 0 lowers L (spec §2 degenerate cases).
+    // Two of three coincident: their m = 0 lowers L (a degenerate case).
     let e = elements(&[[0.0; 3], [0.0; 3], [2.0, 0.0, 0.0]]);
     // m = (0, 0, 1), M = ½ (2 + 0 + 1) = 1.5, L = 1 / 1.5³.
     assert!(rel_err(e.uniformity_l, 1.0 / 1.5_f64.powi(3)) < 1e-15);

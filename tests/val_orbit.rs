@@ -389,7 +389,7 @@ fn val_constants_against_published_values() {
     let j2_egm96 = 5.0_f64.sqrt() * 0.484165371736e-3;
     assert!((EARTH.j2 - j2_egm96).abs() < 5e-12);
     assert_eq!(EarthModel::default(), EARTH);
-    // Gao spec section 1.3: a = 6978.137 km gives omega = 1.08308e-3 rad/s and a period of 5801.2 s
+    // Gao, Li & Wei 2022 (`docs/methods/bifurcating.md` §1.3): a = 6978.137 km gives omega = 1.08308e-3 rad/s and a period of 5801.2 s
     // (printed to 6 and 5 figures: half a unit in the last digit).
     let a = 6_978_137.0;
     assert!((EARTH.mean_motion_rad_s(a) - 1.08308e-3).abs() < 0.000005e-3);
@@ -630,7 +630,7 @@ fn regress_gao_hill_conversion_is_the_spec_rotation() {
 
 #[test]
 fn val_gao_axes_from_r_and_h() {
-    // Gao spec section 1.1: z = -r/|r|, y = -h/|h|, x = y x z, built here directly from r and v.
+    // Gao, Li & Wei 2022 (`docs/methods/bifurcating.md` §1.1): z = -r/|r|, y = -h/|h|, x = y x z, built here directly from r and v.
     for (name, reference) in reference_states() {
         let frame = LvlhFrame::from_reference(&reference);
         let r = reference.position_m;

@@ -36,9 +36,9 @@ use satflock::swarm::{
     SwarmView,
 };
 
-/// Target orbit radius r_T \[m\] (spec §4.1).
+/// Target orbit radius r_T \[m\] (our reconstruction, `docs/methods/pigeon.md`).
 const R_T_M: f64 = 7_400_000.0;
-/// Per-axis thrust limit \[m/s²\] (spec §4.1).
+/// Per-axis thrust limit \[m/s²\] (our reconstruction, `docs/methods/pigeon.md`).
 const LIMIT_M_S2: f64 = 5.0;
 
 fn n() -> f64 {
@@ -69,7 +69,7 @@ fn table_i() -> Vec<RelativeStateHill> {
         .collect()
 }
 
-/// The spec's two obstacles, spheres centred in the y–z plane: (z, y) = (−400, −80) m, r = 100 m and
+/// The two obstacles of our reconstruction, spheres centred in the y–z plane: (z, y) = (−400, −80) m, r = 100 m and
 /// (−800, 130) m, r = 80 m, detected from R_c^3 = 100 m off the surface.
 fn obstacles() -> Vec<Obstacle> {
     [((-400.0, -80.0), 100.0), ((-800.0, 130.0), 80.0)]
@@ -282,7 +282,7 @@ fn val_p8_saturated_thrust_is_within_the_limit_and_back_substitution_satisfies_c
 
 #[test]
 fn val_p10_switching_probability_limits() {
-    // p_h(1) = 1/(1 + α), p_h(0) = 1/(1 + α e^(−β)) (spec §2.6); evaluated to the last few ulps.
+    // p_h(1) = 1/(1 + α), p_h(0) = 1/(1 + α e^(−β)) (paper §2.6); evaluated to the last few ulps.
     for (alpha, beta) in [(9.0_f64, 10.0_f64), (2.0, 0.5), (100.0, 3.0)] {
         let one = hierarchical_probability(1.0, alpha, beta);
         let zero = hierarchical_probability(0.0, alpha, beta);

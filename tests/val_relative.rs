@@ -1,7 +1,7 @@
 //! Validation of `satflock::relative` (HCW and Schweighart–Sedwick) against independent references:
 //! a fixed-step RK4 written here (not the crate's integrator), textbook HCW results (Vallado 4th ed.
 //! §6.8, Curtis §7.5) and the statements and verified table of
-//! `docs/methods/j2-distance.md` §1.3, §2.3 and §2.4 ("spec" below).
+//! `docs/methods/j2-distance.md` §1.3, §2.3 and §2.4 (the "method page" below).
 //!
 //! Relative errors of a state use the scaled norm `‖[r; v/n]‖` (velocities turned into lengths with
 //! the mean motion), so that positions and velocities weigh alike.
@@ -15,7 +15,7 @@ use satflock::relative::{Hcw, SchweighartSedwick};
 const MU: f64 = 3.986_004_418e14;
 /// WGS-84 equatorial radius [m].
 const RE: f64 = 6_378_137.0;
-/// Second zonal harmonic [-] (the value the spec quotes in §1.3).
+/// Second zonal harmonic [-] (the value our earlier derivation used for §1.3).
 const J2: f64 = 1.082_63e-3;
 /// Reference radius of a 600 km circular orbit [m].
 const R600: f64 = RE + 600e3;
@@ -317,7 +317,7 @@ fn val_ss_constants_600km_sso_by_hand() {
 
 #[test]
 fn val_ss_constants_reproduce_spec_table() {
-    // Spec §1.3 table ([verified] there): r = 6871 km, i = 51.7°, μ = 3.986e14 and
+    // Method page §1.3 table ([verified] there): r = 6871 km, i = 51.7°, μ = 3.986e14 and
     // k_J2 = 2.633e25 m⁵/s², i.e. J2 R² = k_J2 / (1.5 μ).
     let mu = 3.986e14;
     let j2 = 2.633e25 / (1.5 * mu * RE * RE);
@@ -344,7 +344,7 @@ fn val_ss_constants_reproduce_spec_table() {
     for (name, got, want, tol) in checks {
         assert!((got - want).abs() < tol, "{name}: {got} vs table {want}");
     }
-    // Spec identity 3 + 5s = 4c₊² − c₋² (rounding of squares of O(1) numbers).
+    // Identity 3 + 5s = 4c₊² − c₋² (rounding of squares of O(1) numbers).
     let (cp, cm) = (ss.c_plus(), ss.c_minus());
     assert!((3.0 + 5.0 * ss.s_j2() - (4.0 * cp * cp - cm * cm)).abs() < 1e-15);
     // Same product in the crate: equal to rounding (one ulp of 1.1e-3 is 2e-19).
@@ -361,7 +361,7 @@ fn val_ss_without_j2_is_hcw() {
     assert_eq!(ss.c_minus(), 1.0);
     assert_eq!(ss.mean_motion_rad_s(), n);
     assert_eq!(ss.omega_z_rad_s(), n);
-    // Spec §1.3: ε₂ → 3 ω_o and k₁ → 3/4 in the Clohessy–Wiltshire limit.
+    // Method page §1.3: ε₂ → 3 ω_o and k₁ → 3/4 in the Clohessy–Wiltshire limit.
     // A few ulp of 3.2e-3 (one ulp is 4.3e-19).
     assert!((ss.epsilon_2_rad_s() - 3.0 * n).abs() < 2e-18);
     assert_eq!(ss.k1(), 0.75);
@@ -438,7 +438,7 @@ fn val_ss_closed_form_matches_rk4() {
     println!("SS closed form vs RK4, worst relative error: {worst:e}");
 }
 
-/// Spec §1.3 constants computed here from the table's formulas, independently of the crate.
+/// Method page §1.3 constants computed here from the table's formulas, independently of the crate.
 struct SpecConstants {
     n: f64,
     s: f64,
@@ -466,7 +466,7 @@ fn spec_constants(r: f64, i: f64) -> SpecConstants {
     }
 }
 
-/// Spec Eq. 4 in the scaled coordinates [x̄, ȳ, z, x̄', ȳ', z'] exactly as printed in §2.3
+/// Paper Eq. 4 in the scaled coordinates [x̄, ȳ, z, x̄', ȳ', z'] exactly as printed in §2.3
 /// (l_z = 0, no disturbance), with control acceleration `u` in {O}.
 fn spec_eq4(k: &SpecConstants, q: &Vector6<f64>, u: &Vector3<f64>) -> Vector6<f64> {
     let (xb, z, dxb, dyb) = (q[0], q[2], q[3], q[4]);
@@ -480,7 +480,7 @@ fn spec_eq4(k: &SpecConstants, q: &Vector6<f64>, u: &Vector3<f64>) -> Vector6<f6
     Vector6::new(dxb, dyb, q[5], xbb, ybb, zz)
 }
 
-/// Physical → scaled: x̄ = c₊x, ȳ = c₋y (spec §1.1).
+/// Physical → scaled: x̄ = c₊x, ȳ = c₋y (method page §1.1).
 fn to_scaled(k: &SpecConstants, x: &Vector6<f64>) -> Vector6<f64> {
     Vector6::new(
         k.cp * x[0],
@@ -503,7 +503,7 @@ fn from_scaled(k: &SpecConstants, q: &Vector6<f64>) -> Vector6<f64> {
     )
 }
 
-/// Spec §3.1: (C₁, C₂, C₃, C₄, C₅, C₆) from a physical Hill state.
+/// Method page §3.1: (C₁, C₂, C₃, C₄, C₅, C₆) from a physical Hill state.
 fn spec_c_params(k: &SpecConstants, x: &Vector6<f64>) -> [f64; 6] {
     let q = to_scaled(k, x);
     let c1 = k.cp / (k.cm * k.cm) * (2.0 * q[0] + q[4] / k.wxy);
@@ -513,7 +513,7 @@ fn spec_c_params(k: &SpecConstants, x: &Vector6<f64>) -> [f64; 6] {
     [c1, c2, c3, c4, x[5] / k.wz, x[2]]
 }
 
-/// Spec §2.4 (Eq. 5) position at time t from the C-parameters (l_z = 0).
+/// Method page §2.4 (Eq. 5) position at time t from the C-parameters (l_z = 0).
 fn spec_eq5_position(k: &SpecConstants, c: &[f64; 6], t: f64) -> Vector3<f64> {
     let (rxy, thxy) = (c[1].hypot(c[2]), c[2].atan2(c[1]));
     let (rz, thz) = (c[4].hypot(c[5]), c[5].atan2(c[4]));
@@ -529,7 +529,7 @@ fn val_ss_spec_eq4_eq5_and_physical_form_agree() {
     let i = 98f64.to_radians();
     let k = spec_constants(R600, i);
     let ss = ss_600km_sso();
-    // The crate's constants against the spec formulas as coded here. The test writes ε₂ with
+    // The crate's constants against the method page's formulas as coded here. The test writes ε₂ with
     // 4c₊² − c₋² instead of 3 + 5s, so allow ~20 ulp (one ulp of 3.2e-3 is 4.3e-19); ω_z and s
     // are the same expressions: a few ulp (ulp of 1.1e-3 is 2e-19, of 6.4e-4 is 1e-19).
     assert!((ss.epsilon_2_rad_s() - k.eps2).abs() < 1e-17);
@@ -565,7 +565,7 @@ fn val_ss_spec_eq4_eq5_and_physical_form_agree() {
             assert!(ecf < 1e-9, "closed form vs Eq. 4 at t = {t}: {ecf:e}");
             worst_eq5 = worst_eq5.max(e5);
         }
-        // 3. The drift rates agree: −ε₂C₁ (spec) and the crate's along_track_drift_mps. For the
+        // 3. The drift rates agree: −ε₂C₁ (method page) and the crate's along_track_drift_mps. For the
         //    HCW-bounded state, C₁ ∝ 200 (c₊ − 1) ≈ −0.064 m is computed from terms of 200 m, so
         //    cancellation costs ~3.5 digits: 1e-11 relative is that rounding with margin.
         let drift = ss.along_track_drift_mps(&x0);
@@ -575,7 +575,7 @@ fn val_ss_spec_eq4_eq5_and_physical_form_agree() {
             "{drift:e} vs {spec_drift:e}"
         );
     }
-    println!("spec Eq. 5 vs RK4 of Eq. 4, worst relative position error: {worst_eq5:e}");
+    println!("paper Eq. 5 vs RK4 of Eq. 4, worst relative position error: {worst_eq5:e}");
 }
 
 #[test]

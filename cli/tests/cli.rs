@@ -363,7 +363,7 @@ fn val_validate_scatter_prints_only_the_report_as_markdown_and_json() {
 
 #[test]
 fn val_gao_circle_reaches_its_ring_before_1000_s_and_records_the_shape_columns() {
-    // Spec O6: the ring of G3 is established by ~1000 s (our prototype: within 5 % at 450 s).
+    // O6 of `docs/methods/bifurcating.md` §6: the ring of G3 is established by ~1000 s (our prototype: within 5 % at 450 s).
     let dir = scratch_dir("gao-circle");
     let output = satflock()
         .args(["run", "gao-circle", "--quiet", "--out"])

@@ -1,6 +1,6 @@
-//! Release-mode reproductions of Gao, Li & Wei 2022 (spec `gao-bifurcating-potential.md` §6), sized for
+//! Release-mode reproductions of Gao, Li & Wei 2022 (method page `docs/methods/bifurcating.md` §6), sized for
 //! CI: the same code as `satflock validate gao` (`satflock_cli::validate::gao`), on the built-in `gao-*`
-//! scenarios, with the spec's tolerances. Seed-dependent outcomes use 5 seeds and test the median.
+//! scenarios, with our reconstruction's tolerances. Seed-dependent outcomes use 5 seeds and test the median.
 //! The full-length set (G1/G2 lines, G5, G6, the whole Table 4 sequence, every Fig. 19 shape) is in
 //! `satflock validate gao`; O9–O12 are in `tests/regress_gao_shapes.rs` (3 seeds).
 
@@ -18,10 +18,10 @@ fn last(t: &Trace) -> usize {
     t.times_s.len() - 1
 }
 
-/// O3: Table 5's cluster centre propagated 2000 s with point mass + J2 (spec constants) agrees with the
-/// paper's later centres within 0.5 km and 1 m/s (spec §6: our check gives 0.04–0.14 km; the paper's
+/// O3: Table 5's cluster centre propagated 2000 s with point mass + J2 (the paper's constants) agrees with the
+/// paper's later centres within 0.5 km and 1 m/s (method page §6: our check gives 0.04–0.14 km; the paper's
 /// integrator tolerances and its exact J2 model are unknown), while two-body alone misses by > 5 km
-/// (spec: 10–37 km), so the agreement tests J2.
+/// (our reconstruction: 10–37 km), so the agreement tests J2.
 #[test]
 fn regress_o3_table5_centre_needs_j2() {
     for (t, dr, dv) in table5_centre_errors(GravityModel::J2).unwrap() {
@@ -37,10 +37,10 @@ fn regress_o3_table5_centre_needs_j2() {
 
 /// O6–O8 on G3 (μ = −5 km) and G4 (μ = −20 km), 5 seeds, medians:
 /// * O6: the 5 % band (radial error and |y| ≤ 25 m) is reached before 1000 s and L(2000 s) ∈
-///   [0.009, 0.0104] (spec §6; the exact evenly spaced ring gives 0.0103);
+///   [0.009, 0.0104] (method page §6; the exact evenly spaced ring gives 0.0103);
 /// * O7: the μ = −20 km run reaches it in ≤ 0.6 of the time (paper: "roughly halves");
 /// * O8: Δv is NOT below the paper's 1 m/s; we assert Δv(G4) > Δv(G3) and a ±10 % regression band on
-///   our own median 11.8 m/s (spec §6 O8 measured 11.9 m/s with an independent prototype).
+///   our own median 11.8 m/s (O8 of method page §6: our earlier independent prototype measured 11.9 m/s).
 #[test]
 fn regress_o6_o7_o8_circle_speed_up_and_delta_v() {
     let g3 = runs("gao-circle", None);
@@ -71,14 +71,14 @@ fn regress_o6_o7_o8_circle_speed_up_and_delta_v() {
 
 /// O5, O13 and O14 on the whole Table 4 sequence (G9, 8000 s, 5 seeds, medians):
 /// * O14: L while in the disk (Table 5's 0–1000 s) ∈ [0.05, 0.09] (paper ≈ 0.07);
-/// * O5: after the disk → circle switch, diameter ∈ [0.98, 1.08] km (paper 1.003 km), spec §6. Not
-///   asserted: the spec's "L dips ≥ 5× within 150 s" (we measure ×4.1) and, since the random streams
+/// * O5: after the disk → circle switch, diameter ∈ [0.98, 1.08] km (paper 1.003 km), method page §6. Not
+///   asserted: our reconstruction's "L dips ≥ 5× within 150 s" (we measure ×4.1) and, since the random streams
 ///   were redesigned (new initial draws), L(Table 5's 2000 s) ∈ [0.006, 0.0105]: the new draws give a
 ///   median of 0.0058 (seeds 1–5: 0.0056–0.0062; the old draws gave 0.0067, with one seed already
 ///   below 0.006), i.e. the bound lies inside the seed-to-seed spread. Both are reported as differing
 ///   in the validation document; L(2000 s) is printed here;
 /// * O13, stage by stage where the physics reaches in the 1000 s per stage: the circle within 3 % of
-///   its size (spec O12/O13: as the surfaces) and, on ellipse → double circle, ≥ 95 % of satellites on
+///   its size (method page O12/O13: as the surfaces) and, on ellipse → double circle, ≥ 95 % of satellites on
 ///   the ring nearer their start. Not asserted (README, O13): the line (zigzag-buckled, ≈ 80 m), the
 ///   double line (starts on the unstable ridge z = 0, growth time 1330 s), the ellipse (4 % against
 ///   3 %), the double circle radii (time constant 1330 s).
@@ -104,7 +104,7 @@ fn regress_o5_o13_o14_table4_sequence() {
             .map(|t| t.five[k4000(t)].diameter_m)
             .collect::<Vec<_>>(),
     );
-    eprintln!("O5: L(2000 s) median {l_end} (spec [0.006, 0.0105], not asserted: see above)");
+    eprintln!("O5: L(2000 s) median {l_end} (expected [0.006, 0.0105], not asserted: see above)");
     assert!((980.0..=1080.0).contains(&d_end), "diameter {d_end} m");
     let circle = median(
         &g9.iter()

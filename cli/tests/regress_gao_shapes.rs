@@ -1,7 +1,7 @@
-//! Release-mode reproductions of Gao, Li & Wei 2022 (spec `gao-bifurcating-potential.md` §6) for the
+//! Release-mode reproductions of Gao, Li & Wei 2022 (method page `docs/methods/bifurcating.md` §6) for the
 //! shapes outcomes O9–O13, sized for CI: the same code as `satflock validate gao`
 //! (`satflock_cli::validate::gao`), on the built-in `gao-*` scenarios, 3 seeds (1–3) where the outcome is
-//! seed-dependent, median tested, with the spec's tolerances. The runs of one test go over the cores
+//! seed-dependent, median tested, with our reconstruction's tolerances. The runs of one test go over the cores
 //! whole (`run_all`), one single-thread run per core.
 
 use satflock_cli::validate::gao::{
@@ -21,11 +21,11 @@ fn med(traces: &[Trace], f: impl Fn(&Trace) -> f64) -> f64 {
 }
 
 /// O9, G6 (concentric double circle 0.5/1.5 km, μ = +0.5 km, from a 2 km cube), run to G6_LONG_S
-/// (8000 s), 3 seeds, medians. The spec's "every satellite within 3 % of a ring" does NOT hold, at
+/// (8000 s), 3 seeds, medians. Our reconstruction's "every satellite within 3 % of a ring" does NOT hold, at
 /// 2000 s or at 8000 s: `satflock validate gao` measures 10 % and 56 % of satellites in the band
 /// (5 seeds; README, O9). The ring stiffness is k_f·φ''(±μ) = k_f·μ = 1.5 N/m, time constant
 /// k_v/(k_f μ) ≈ 1330 s, and satellites near the ridge ρ = 1 km leave it at the same rate. Asserted:
-/// * nearest-ring assignment (spec: ≥ 95 % go to the ring nearer their start, ρ < 1 km → inner) at
+/// * nearest-ring assignment (method page: ≥ 95 % go to the ring nearer their start, ρ < 1 km → inner) at
 ///   2000 s and at 8000 s: the ridge of the potential is at ρ = r = 1 km, so the sign of ρ − 1 km at
 ///   the start decides;
 /// * the fraction within 3 % of a ring grows from 2000 s to 8000 s (the settling the time constant
@@ -70,14 +70,14 @@ fn regress_o9_double_circle_nearest_ring_and_radii() {
 }
 
 /// O10, G1 (line z = 0, k_f = 10 kg/(km s²), μ = −1 km, s = 0.2 km) and G2 (lines z = ±0.5 km) at
-/// 2000 s, 3 seeds. The spec expects ≤ 5 m from the target lines; our G1 line is ~30 m thick.
+/// 2000 s, 3 seeds. The method page expects ≤ 5 m from the target lines; our G1 line is ~30 m thick.
 /// Analysis (README, O10): the line is force-free along-track and spreads only by repulsion, so at
 /// 2000 s its middle is still compressed (spacing ~13 m, s = 200 m); a straight line is linearly
 /// unstable to the alternating zigzag mode when 2 Σ_(odd j) k_c (s/(jδ) − 1) > k_f a²|μ| = 10 N/m,
 /// i.e. for spacings δ below ≈ 24 m. The thickness is this buckling, not a bug. Asserted:
 /// * out of plane |y| ≤ 5 m on both (the σ well, 2 k_f σ = 200 N/m, is 20× stiffer than the line);
 /// * G1's central spacing at 2000 s is below the critical spacing computed from the gains, so the
-///   buckling is expected, and the line is then thicker than 5 m (the spec's 5 m is NOT reproduced;
+///   buckling is expected, and the line is then thicker than 5 m (our reconstruction's 5 m is NOT reproduced;
 ///   if this starts failing because the line became straight, update the README's O10 row);
 /// * G1's thickness shrinks from 1000 s to 2000 s as the line lengthens.
 #[test]
@@ -122,7 +122,7 @@ fn regress_o10_lines_zigzag() {
 }
 
 /// O11: G5 circle r = 5 km (s = r = 5 km): largest radial error and |y| at 2000 s ≤ 3 % of r
-/// (spec O11), median of 3 seeds.
+/// (method page O11), median of 3 seeds.
 #[test]
 fn regress_o11_large_circle() {
     let g5 = run_seeds("gao-circle-large", &SEEDS, None).unwrap();
@@ -137,7 +137,7 @@ fn regress_o11_large_circle() {
 /// O12 (Fig. 19): the sphere surface and the 1/0.6 ellipse within 3 % of their size at 2000 s (largest
 /// first-order distance to the level set, and |y| for the 2-D ellipse), and the filled disk formed: the
 /// level set enclosing all satellites has the commanded aspect (RMS extents within 10 %, finite-N
-/// sampling of 50 points), is filled (no empty annulus wider than 0.4 ρ_max: the spec's 1+8+16+25
+/// sampling of 50 points), is filled (no empty annulus wider than 0.4 ρ_max: our 1+8+16+25
 /// disk lattice has 1/3, one ring ≈ 1, two rings at ρ_max/3 and ρ_max 0.67) and in the orbital plane
 /// (|y| ≤ 3 %). Median of 3 seeds. (Not "median ρ/ρ_max ≤ 0.85": this law piles satellites on the
 /// boundary, our filled disk gives 0.87–0.91; README, O12.)

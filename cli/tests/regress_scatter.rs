@@ -8,7 +8,7 @@
 //! axes exceeds it by 0.15 % at 200 s and 1.8 % at 500 s through the Coriolis coupling, which was worked
 //! out before the first run — so it is reported by `validate scatter`, not asserted here).
 //!
-//! N2 and N4 do not reproduce: `validate scatter` reports them as "differs" with the spec's criteria
+//! N2 and N4 do not reproduce: `validate scatter` reports them as "differs" with the criteria of `docs/methods/equilibrium-shaping.md`
 //! and the reason. They are not asserted here; instead a test asserts the mechanism our runs show,
 //! derived from the equations, so that a change of behaviour is noticed.
 //!

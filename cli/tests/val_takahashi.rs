@@ -1,6 +1,6 @@
-//! Reproduction of Takahashi & Sakai (spec `docs/methods/j2-distance.md`) with the
+//! Reproduction of Takahashi & Sakai (method page `docs/methods/j2-distance.md`) with the
 //! `j2-distance` law, shortened to fit the test budget: the §4.1 comparison on the linear model (T1–T3
-//! of spec §11.2, 12 h instead of 24 h), a 24 h truth-J2 deployment into plane Θ1 (the early part of
+//! of method page §11.2, 12 h instead of 24 h), a 24 h truth-J2 deployment into plane Θ1 (the early part of
 //! T4–T9 of §11.3; the full 120 h runs are in `satflock validate takahashi`), and the outage experiment
 //! of §8 (switch-off at 1 h, 5 h of free drift).
 
@@ -23,8 +23,8 @@ fn val_connectable_comparison_t1_t3_linear() {
         }
     }
     let [main_large, opp_large, main_small, opp_small] = [0, 1, 2, 3].map(|k| stats[k].clone());
-    // T1 (spec §11.2): both laws reach max|C1| < 1e-3 m and max|C4| < 1e-2 m within 6 h, and 1e-6 m
-    // within 12 h (the spec's bounds, which hold "with a wide margin" in its prototype).
+    // T1 (method page §11.2): both laws reach max|C1| < 1e-3 m and max|C4| < 1e-2 m within 6 h, and 1e-6 m
+    // within 12 h (method page §11.2's bounds, which hold "with a wide margin" in our earlier prototype).
     for s in &stats {
         assert!(s.settle_h.is_some_and(|h| h <= 6.0), "T1: {s:?}");
         assert!(
@@ -39,7 +39,7 @@ fn val_connectable_comparison_t1_t3_linear() {
         "T2: {main_small:?} vs {opp_small:?}"
     );
     assert!(opp_small.growing_fraction >= 0.85, "T2: {opp_small:?}");
-    // T2's large-C1 clause (median at 1 h larger for main) depends on the draw (spec prototype 6–52 h
+    // T2's large-C1 clause (median at 1 h larger for main) depends on the draw (our earlier prototype 6–52 h
     // vs 2.4–6.4 h over its seeds; ours on seeds 1–3 since the random-stream redesign: 25.0/2.6,
     // 12.9/4.4, 44.5/2.5 h; with the earlier draws seed 1 gave 1.8 vs 2.3 h); reported by
     // `satflock validate takahashi`, not asserted here.
@@ -56,16 +56,16 @@ fn val_plane_1_truth_first_24_hours() {
     let s = scenario("ts-plane-1", None, Some(24.0 * 3600.0)).unwrap();
     let run = traced_run(&s, 1800.0, f64::INFINITY).unwrap();
     let st = plane_stats(&run, ORIGIN, RANGE_M, 1e-6);
-    // T4: connected at every grouping update (spec §11.3; the saturation part applies after 24 h).
+    // T4: connected at every grouping update (method page §11.3; the saturation part applies after 24 h).
     assert!(st.always_connected, "{st:?}");
-    // T5's bounds (spec §11.3, the looser γ_A-independent ones): the C1 loop settles within a few hours
+    // T5's bounds (method page §11.3, the looser γ_A-independent ones): the C1 loop settles within a few hours
     // (rate >= k_A λ2 / 2), so they already hold at 24 h.
     assert!(st.max_c1_m < 1e-2 && st.max_c4_m < 0.5, "{st:?}");
 }
 
 #[test]
 fn val_outage_centre_exit_matches_connectable_time() {
-    // Opposing law (short T̂_conn at 1 h, spec §11.2: median 4.0–8.2 h), links cut at 1 h, 5 h of free
+    // Opposing law (short T̂_conn at 1 h, method page §11.2: median 4.0–8.2 h), links cut at 1 h, 5 h of free
     // drift under truth J2.
     let s = scenario("ts-outage", Some(Variant::Opp), Some(6.0 * 3600.0)).unwrap();
     let run = traced_run(&s, 60.0, 3600.0).unwrap();
@@ -76,8 +76,8 @@ fn val_outage_centre_exit_matches_connectable_time() {
         o.measured_centre_exits >= o.predicted_exits.saturating_sub(1),
         "{o:?}"
     );
-    // The relaxed T̂_conn is exact on the linear model (spec §8); under truth J2 the measured centre
-    // carries the short-period oscillation of C1 (±4e-3 r_xy, spec §3.5) and is sampled every 60 s:
+    // The relaxed T̂_conn is exact on the linear model (method page §8); under truth J2 the measured centre
+    // carries the short-period oscillation of C1 (±4e-3 r_xy, method page §3.5) and is sampled every 60 s:
     // half an hour covers the sampling and the drift-rate error over a few hours.
     assert!(o.median_centre_error_h < 0.5, "{o:?}");
 }
@@ -85,7 +85,7 @@ fn val_outage_centre_exit_matches_connectable_time() {
 #[test]
 fn val_law_metrics_time_series_match_the_summary_at_the_end() {
     // Θ2, 100 satellites, truth J2, 1 h recorded every 30 min: metrics.csv must carry the law's time
-    // series (spec §13), and its last row must equal what summary.json reports at the final time (the
+    // series (method page §13), and its last row must equal what summary.json reports at the final time (the
     // recording at t = 1 h and the summary see the same swarm and the same grouping).
     let s = scenario("ts-plane-2", None, Some(3600.0)).unwrap();
     let dir = std::env::temp_dir().join(format!("satflock-ts-metrics-{}", std::process::id()));

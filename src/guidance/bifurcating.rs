@@ -1,25 +1,25 @@
 //! The `bifurcating` law: cluster formation and reconfiguration by a bifurcating potential field
 //! (W. Gao, K. Li, C. Wei, *Aerospace* 9(3):137, 2022), as restated in
-//! `docs/methods/bifurcating.md` (cited below as "spec").
+//! `docs/methods/bifurcating.md` (cited below as the "method page").
 //!
 //! Each satellite i computes, from its own state relative to the formation centre (the LVLH origin: the
-//! virtual reference orbit, or a member used as "target spacecraft", spec §3.5) and from the neighbours
+//! virtual reference orbit, or a member used as "target spacecraft", method page §3.5) and from the neighbours
 //! it senses within the avoidance radius s:
 //!
-//! u_i = (F_f(q_i) + F_c,i − k_v v_i) / m_i   (spec §3.1, paper Eq. 10 read in the rotating frame)
+//! u_i = (F_f(q_i) + F_c,i − k_v v_i) / m_i   (method page §3.1, paper Eq. 10 read in the rotating frame)
 //!
 //! * F_f = −∇U_f, the formation term of the scalar bifurcating potential φ(e) = |e|³/3 − μe²/2
-//!   (spec §3.3, Eqs. 15–21) applied to a shape coordinate e (spec §3.4):
+//!   (method page §3.3, Eqs. 15–21) applied to a shape coordinate e (method page §3.4):
 //!   - 2-D (Eq. 22): ρ = √(b²x² + a²z²), e = ρ − a·b·r, U_f = k_f (φ(e) + σ y²);
 //!   - 3-D (Eqs. 24–25): d = √(b²c²x² + a²c²y² + a²b²z²), e = d − a·b·c·r, U_f = k_f φ(e);
 //!
 //!   with (x, y, z) Gao `o-xyz` coordinates (x along-track, y minus orbit normal, z nadir);
 //! * F_c = Σ_j k_c (s − d_ij) (q_i − q_j)/d_ij over neighbours with d_ij ≤ s: the bounded spring
-//!   repulsion of spec §3.2 (the paper's Eqs. 12–14 read consistently);
-//! * v_i is the rotating-frame relative velocity (spec §3.1), the one the engine's view carries;
+//!   repulsion of method page §3.2 (the paper's Eqs. 12–14 read consistently);
+//! * v_i is the rotating-frame relative velocity (method page §3.1), the one the engine's view carries;
 //! * optional feed-forward cancelling the CW natural acceleration (`cw_feedforward`, default off).
 //!
-//! Singular points (spec §3.4): when a·b·r = 0 (resp. a·b·c·r = 0) the smooth form
+//! Singular points (method page §3.4): when a·b·r = 0 (resp. a·b·c·r = 0) the smooth form
 //! ∇U_f = k_f (ρ − μ)(b²x, 0, a²z) (+ the σ term) is evaluated, with no division; otherwise ∇ρ is
 //! regularised as (b²x, 0, a²z)/max(ρ, ε), ε = 1 mm. Coincident satellites (d_ij = 0) are pushed apart
 //! along ±x (along-track) by index order, so that runs stay reproducible.
@@ -28,7 +28,7 @@
 //! shape parameters; every satellite then slides down the new potential from wherever it is.
 //!
 //! Units: SI inside (m, kg, s). The paper's km-based gains convert as k_f \[kg/(m·s²)\] = 10⁻³ ×
-//! k_f \[kg/(km·s²)\]; k_c \[kg/s²\] and k_v \[kg/s\] keep their numbers; lengths ×1000 (spec §1.2).
+//! k_f \[kg/(km·s²)\]; k_c \[kg/s²\] and k_v \[kg/s\] keep their numbers; lengths ×1000 (method page §1.2).
 
 use std::collections::BTreeMap;
 
@@ -40,11 +40,11 @@ use crate::relative::Hcw;
 use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
 
 /// Regularisation radius ε of the shape coordinate at the cone point ρ = 0 (resp. d = 0) \[m\]
-/// (spec §3.4: 10⁻⁶ km).
+/// (method page §3.4: 10⁻⁶ km).
 pub const REGULARISATION_M: f64 = 1e-3;
 
 /// Fraction of the shape's size within which every satellite must sit for the shape to count as reached
-/// (spec §6, O6: "max radial error and |y| below 5 % of r").
+/// (method page §6, O6: "max radial error and |y| below 5 % of r").
 pub const SHAPE_REACHED_FRACTION: f64 = 0.05;
 
 /// Which potential: the in-plane one with an out-of-plane well, or the stereo one.
@@ -59,7 +59,7 @@ pub enum Dimension {
     Spatial,
 }
 
-/// Parameters of the `bifurcating` law (SI; the paper's km-based values convert as spec §1.2 says).
+/// Parameters of the `bifurcating` law (SI; the paper's km-based values convert as method page §1.2 says).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BifurcatingParameters {
@@ -87,10 +87,10 @@ pub struct BifurcatingParameters {
     /// Bifurcation parameter μ \[m\]: < 0 one shell, > 0 two shells e = ±μ; finite, ≠ 0.
     pub mu_m: f64,
     /// Out-of-plane stiffness σ \[m\] of the 2-D potential's well σ y² (never given by the paper; default
-    /// 10 km, spec §4.1); finite, > 0.
+    /// 10 km, method page §4.1); finite, > 0.
     #[serde(default = "default_sigma")]
     pub sigma_m: f64,
-    /// Cancel the CW natural acceleration (default false: the paper does not, spec §3.1).
+    /// Cancel the CW natural acceleration (default false: the paper does not, method page §3.1).
     #[serde(default)]
     pub cw_feedforward: bool,
 }
@@ -103,7 +103,7 @@ fn default_sigma() -> f64 {
     10_000.0
 }
 
-/// The set the formation term drives satellites to (spec §3.4, Tables 1–2 corrected).
+/// The set the formation term drives satellites to (method page §3.4, Tables 1–2 corrected).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum TargetSet {
     /// One or two level sets of the shape coordinate: e = 0 (μ < 0) or e = ±μ (μ > 0): rings, ellipses,
@@ -115,7 +115,7 @@ pub enum TargetSet {
     Filled,
 }
 
-/// How far a swarm is from the law's target shape (spec §6, O6/O9–O12).
+/// How far a swarm is from the law's target shape (method page §6, O6/O9–O12).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShapeError {
     /// Largest distance of a satellite from the nearest stable level set, to first order |Δe|/‖∇e‖ \[m\]
@@ -142,7 +142,7 @@ impl ShapeError {
 }
 
 impl BifurcatingParameters {
-    /// Checks every range and refuses parameter sets that make no formation (spec §3.4).
+    /// Checks every range and refuses parameter sets that make no formation (method page §3.4).
     pub fn check(&self) -> Result<(), LawError> {
         let invalid = |message: String| LawError::InvalidParameters {
             law: "bifurcating".into(),
@@ -239,11 +239,11 @@ impl BifurcatingParameters {
         }
     }
 
-    /// Formation potential U_f at Gao position `q_gao_m` \[m\], in joules (spec §3.4).
+    /// Formation potential U_f at Gao position `q_gao_m` \[m\], in joules (method page §3.4).
     pub fn formation_potential_j(&self, q_gao_m: &Vector3<f64>) -> f64 {
         let rho = self.weights().dot(&q_gao_m.component_mul(q_gao_m)).sqrt();
         let e = rho - self.shape_offset_m();
-        let phi = e.abs().powi(3) / 3.0 - self.mu_m * e * e / 2.0; // φ(e), spec §3.3
+        let phi = e.abs().powi(3) / 3.0 - self.mu_m * e * e / 2.0; // φ(e), method page §3.3
         let well = match self.dimension {
             Dimension::Planar => self.sigma_m * q_gao_m.y * q_gao_m.y, // σ y², Eq. 22
             Dimension::Spatial => 0.0,
@@ -252,7 +252,7 @@ impl BifurcatingParameters {
     }
 
     /// Formation force F_f = −∇U_f at Gao position `q_gao_m` \[m\], Gao frame \[N\], with the singular
-    /// point handled as spec §3.4 says.
+    /// point handled as method page §3.4 says.
     pub fn formation_force_gao_n(&self, q_gao_m: &Vector3<f64>) -> Vector3<f64> {
         let w = self.weights();
         let g = w.component_mul(q_gao_m); // ρ ∇ρ = (w_x x, w_y y, w_z z)
@@ -289,7 +289,7 @@ impl BifurcatingParameters {
     }
 
     /// Shape error of satellites at Gao positions `positions_gao_m` \[m\] relative to the formation centre
-    /// (spec §6: residual to the nearest stable level set, out-of-plane error, size for the 5 % test).
+    /// (method page §6: residual to the nearest stable level set, out-of-plane error, size for the 5 % test).
     pub fn shape_error(&self, positions_gao_m: &[Vector3<f64>]) -> ShapeError {
         let w = self.weights();
         let offset = self.shape_offset_m();
@@ -417,7 +417,7 @@ impl Bifurcating {
         }
     }
 
-    /// Collision-avoidance force F_c on satellite `satellite`, Hill frame \[N\] (spec §3.2).
+    /// Collision-avoidance force F_c on satellite `satellite`, Hill frame \[N\] (method page §3.2).
     fn avoidance_force_hill_n(&self, satellite: &SatelliteView<'_>) -> Vector3<f64> {
         let p = &self.parameters;
         let s = p.avoidance_radius_m;
@@ -520,7 +520,7 @@ impl GuidanceLaw for Bifurcating {
         })
     }
 
-    /// Final shape error (spec §6): `shape_max_residual_m`, `shape_max_out_of_plane_m`, `shape_size_m`,
+    /// Final shape error (method page §6): `shape_max_residual_m`, `shape_max_out_of_plane_m`, `shape_size_m`,
     /// `shape_reached` (5 % criterion) and `shape_max_coordinate_m`, over live satellites, and
     /// `time_to_shape_s` (from the last shape command to the first recording meeting the 5 % criterion;
     /// null if not reached; resolution = the recording interval).

@@ -7,10 +7,10 @@
 //! 1. size N;
 //! 2. movement: mean state `r_o = Σ r_i / N`, `v_o = Σ v_i / N` (Eqs. 1–2);
 //! 3. outer boundary `d_max = max_i |r_i - r_o|` (Eq. 3). The paper's Table 5 instead matches the cluster
-//!    diameter `max_{i<j} |r_i - r_j|`, reported as well ([`FiveElements::diameter_m`], spec §2 item 3);
+//!    diameter `max_{i<j} |r_i - r_j|`, reported as well ([`FiveElements::diameter_m`], method page §2);
 //! 4. inner boundary `d_min = min_{i≠j} (|r_i - r_j| - a_i - a_j)` with physical radii `a_i` (Eq. 4);
 //! 5. distribution uniformity `L = Σ m_i³ / M³` (Eqs. 5–9) with `m_i = ½ min_{j≠i} |r_i - r_j|` and
-//!    `M = ½ max_{i≠j} (|r_i - r_j| + m_i + m_j)`, exactly as the spec's Appendix A (Eq. 8 is the paper's,
+//!    `M = ½ max_{i≠j} (|r_i - r_j| + m_i + m_j)`, exactly as our reconstruction defines it (Eq. 8 is the paper's,
 //!    not the true enclosing sphere; it is kept on purpose).
 //!
 //! Positions are subtracted from the centroid before anything else (ECI coordinates are ~7e6 m while
@@ -29,7 +29,7 @@ use rayon::prelude::*;
 use super::{check_radii, MetricsError, MAX_COORDINATE};
 use crate::grid::NeighbourGrid;
 
-/// The five elements of a cluster snapshot (spec §2). Lengths in metres, velocities in metres per
+/// The five elements of a cluster snapshot (method page §2). Lengths in metres, velocities in metres per
 /// second; vectors in the frame of the inputs (ECI per the paper).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct FiveElements {

@@ -1,7 +1,7 @@
 //! Averaged-J2 relative orbital parameters C₁…C₆ of Takahashi & Sakai, built on the
 //! Schweighart–Sedwick (SS) model, with the connectable time and the user-defined swarm plane.
 //!
-//! Source: `docs/methods/j2-distance.md` ("spec"), which restates and corrects
+//! Source: `docs/methods/j2-distance.md` (the "method page"), which restates and corrects
 //! Y. Takahashi, S. Sakai, "Distance-based Relative Orbital Transition for Satellite Swarm Array
 //! Deployment Under J2 Perturbation". Sections implemented here:
 //!
@@ -18,16 +18,16 @@
 //!
 //! # Frame and units
 //!
-//! Every relative state is `[x, y, z, vx, vy, vz]` in the Hill/RSW LVLH frame (the spec's {O}: x radial
+//! Every relative state is `[x, y, z, vx, vy, vz]` in the Hill/RSW LVLH frame (the method page's {O}: x radial
 //! out, y along-track, z orbit normal), m and m/s, velocities seen in the rotating frame. Every
-//! parameter C₁…C₆ is a length \[m\]. The SS constants (spec §1.3) come from
+//! parameter C₁…C₆ is a length \[m\]. The SS constants (method page §1.3) come from
 //! [`SchweighartSedwick`].
 
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 use super::SchweighartSedwick;
 
-/// The six averaged-J2 relative orbital parameters of a relative state (spec §3.1, Eq. 6), all in
+/// The six averaged-J2 relative orbital parameters of a relative state (method page §3.1, Eq. 6), all in
 /// metres. `c1_m`: drift parameter (along-track drift rate −ε₂C₁); `c4_m`: along-track offset of the
 /// ellipse centre; `(c2_m, c3_m)`: in-plane amplitude vector rotating at ω_xy; `(c5_m, c6_m)`:
 /// cross-track amplitude vector rotating at ω_z.
@@ -89,7 +89,7 @@ impl OrbitParameters {
 }
 
 /// The averaged-J2 parameter toolkit for one reference orbit: the SS model with the constants the
-/// parameter maps use (spec §1.3), cached.
+/// parameter maps use (method page §1.3), cached.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AveragedJ2 {
     model: SchweighartSedwick,
@@ -157,7 +157,7 @@ impl AveragedJ2 {
         self.k1
     }
 
-    /// Parameters of a relative state (Hill, m and m/s; spec §3.1, Eq. 6).
+    /// Parameters of a relative state (Hill, m and m/s; method page §3.1, Eq. 6).
     pub fn parameters(&self, state_hill: &Vector6<f64>) -> OrbitParameters {
         let (cp, cm, w) = (self.c_plus, self.c_minus, self.omega_xy_rad_s);
         // Scaled coordinates of {O_J2}: x̄ = c₊x, ȳ = c₋y.
@@ -178,7 +178,7 @@ impl AveragedJ2 {
     }
 
     /// Parameters of the pair (j, k): those of `state_j − state_k`, both relative to a common LVLH origin
-    /// with rotating-frame velocities (spec §3.4–3.5: the maps are linear, so C_jk = C_j − C_k).
+    /// with rotating-frame velocities (method page §3.4–3.5: the maps are linear, so C_jk = C_j − C_k).
     pub fn pair_parameters(
         &self,
         state_j_hill: &Vector6<f64>,
@@ -187,7 +187,7 @@ impl AveragedJ2 {
         self.parameters(&(state_j_hill - state_k_hill))
     }
 
-    /// Relative state (Hill, m and m/s) of the parameters (spec §3.2, the inverse of Eq. 6).
+    /// Relative state (Hill, m and m/s) of the parameters (method page §3.2, the inverse of Eq. 6).
     pub fn state(&self, p: &OrbitParameters) -> Vector6<f64> {
         let (cp, cm, w) = (self.c_plus, self.c_minus, self.omega_xy_rad_s);
         let xb = p.c3_m + 2.0 * cp * p.c1_m;
@@ -205,7 +205,7 @@ impl AveragedJ2 {
     }
 
     /// Free relative state (Hill, m and m/s) `t_s` seconds after a state of parameters `p`, from the
-    /// closed form of spec §2.4 (Eq. 5, l_z = 0):
+    /// closed form of method page §2.4 (Eq. 5, l_z = 0):
     /// x = 2C₁ + r_xy sin(ω_xy t + θ_xy)/c₊, y = C₄ − ε₂C₁t + 2 r_xy cos(ω_xy t + θ_xy)/c₋,
     /// z = r_z sin(ω_z t + θ_z).
     pub fn free_motion(&self, p: &OrbitParameters, t_s: f64) -> Vector6<f64> {
@@ -231,7 +231,7 @@ impl AveragedJ2 {
     }
 
     /// Time derivatives of the parameters \[m/s\] under the control acceleration `u_hill_m_s2`
-    /// (Hill, m/s²), spec §3.4 (Eq. 13), in the order C₁…C₆.
+    /// (Hill, m/s²), method page §3.4 (Eq. 13), in the order C₁…C₆.
     pub fn parameter_rates(&self, p: &OrbitParameters, u_hill_m_s2: &Vector3<f64>) -> [f64; 6] {
         let (k0, w, wz) = (self.k0_s, self.omega_xy_rad_s, self.omega_z_rad_s);
         [
@@ -244,12 +244,12 @@ impl AveragedJ2 {
         ]
     }
 
-    /// Relaxed connectable time T̂_conn \[s\] of a pair (spec §4.1): see [`connectable_time_s`].
+    /// Relaxed connectable time T̂_conn \[s\] of a pair (method page §4.1): see [`connectable_time_s`].
     pub fn connectable_time_s(&self, p: &OrbitParameters, range_m: f64) -> f64 {
         connectable_time_s(p.c1_m, p.c4_m, self.epsilon_2_rad_s, range_m)
     }
 
-    /// Strict initial escape time T̲_out \[s\] (spec §4.2, a diagnostic): the first time `t ≥ 0` at which
+    /// Strict initial escape time T̲_out \[s\] (method page §4.2, a diagnostic): the first time `t ≥ 0` at which
     /// the free relative position (Eq. 5) reaches `‖r‖ = range_m`, found by sampling every `sample_s`
     /// seconds and bisecting the first bracket to 1 ms. 0 if the pair starts outside; `None` if it
     /// stays inside up to `horizon_s`.
@@ -285,9 +285,9 @@ impl AveragedJ2 {
     }
 }
 
-/// Relaxed connectable time T̂_conn \[s\] (spec §4.1, Definition 1, Eq. 7): the exit time of the free
+/// Relaxed connectable time T̂_conn \[s\] (method page §4.1, Definition 1, Eq. 7): the exit time of the free
 /// ellipse centre `[2C₁, C₄ − ε₂C₁t]` from the disc of radius `range_m` (r_s):
-/// t± = (C₄ ± √(r_s² − 4C₁²)) / (ε₂C₁), T̂ = max(t₊, t₋, 0). Edge cases (spec reconstruction): C₁ = 0
+/// t± = (C₄ ± √(r_s² − 4C₁²)) / (ε₂C₁), T̂ = max(t₊, t₋, 0). Edge cases (our reconstruction): C₁ = 0
 /// gives +∞ if |C₄| ≤ r_s, else 0; 4C₁² > r_s² gives 0. Symmetric under (C₁, C₄) → (−C₁, −C₄).
 pub fn connectable_time_s(c1_m: f64, c4_m: f64, epsilon_2_rad_s: f64, range_m: f64) -> f64 {
     if c1_m == 0.0 {
@@ -307,7 +307,7 @@ pub fn connectable_time_s(c1_m: f64, c4_m: f64, epsilon_2_rad_s: f64, range_m: f
     tp.max(tm).max(0.0)
 }
 
-/// A user-defined swarm plane (spec §5.2–5.7): the plane angles Θ_P and Θ_z-xy \[rad\].
+/// A user-defined swarm plane (method page §5.2–5.7): the plane angles Θ_P and Θ_z-xy \[rad\].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SwarmPlane {
     /// Θ_P \[rad\], in (0, π/2] (the normal's tilt from the radial axis towards −z).
@@ -328,7 +328,7 @@ impl SwarmPlane {
     }
 
     /// The z targets (C₅d, C₆d) \[m\] of a pair from its current in-plane vector (C₂, C₃) \[m\]: the linear
-    /// form of Eq. 9 (spec §5.2), C₅d = (C₂ cos Θz − 2C₃ sin Θz)/tan Θ_P,
+    /// form of Eq. 9 (method page §5.2), C₅d = (C₂ cos Θz − 2C₃ sin Θz)/tan Θ_P,
     /// C₆d = (C₃ cos Θz + 2C₂ sin Θz)/tan Θ_P.
     pub fn z_targets_m(&self, c2_m: f64, c3_m: f64) -> (f64, f64) {
         let (sz, cz) = self.theta_zxy_rad.sin_cos();
@@ -340,7 +340,7 @@ impl SwarmPlane {
     }
 
     /// Ratio S = r_avg / r_xyd of the RMS neighbour distance over one period to the target amplitude
-    /// \[-\] (spec §5.5, Eq. 12 with the corrected time-mean normalisation):
+    /// \[-\] (method page §5.5, Eq. 12 with the corrected time-mean normalisation):
     /// S² = ½ ((1 + 3 sin²Θz)/tan²Θ_P + (3s + 5)/(1 − s²)), s = s_J2.
     pub fn distance_ratio(&self, s_j2: f64) -> f64 {
         let sz = self.theta_zxy_rad.sin();
@@ -350,13 +350,13 @@ impl SwarmPlane {
     }
 
     /// Target in-plane amplitude r_xyd = r_avg / S \[m\] for an average (RMS) neighbour distance
-    /// `average_distance_m` \[m\] (spec §5.5).
+    /// `average_distance_m` \[m\] (method page §5.5).
     pub fn target_amplitude_m(&self, average_distance_m: f64, s_j2: f64) -> f64 {
         average_distance_m / self.distance_ratio(s_j2)
     }
 
     /// C^{Ŝ/O} \[-\]: the linear map from a Hill relative position \[m\] to the normalised swarm frame
-    /// {Ŝ} \[m\] (spec §5.6), C^{Ŝ/S} C^{S/O_J2} diag(c₊, c₋, 1). On a target orbit (Eq. 11) it gives
+    /// {Ŝ} \[m\] (method page §5.6), C^{Ŝ/S} C^{S/O_J2} diag(c₊, c₋, 1). On a target orbit (Eq. 11) it gives
     /// 2 r_xyd [0, cos φ, sin φ]: x is the out-of-plane residual, (y, z) a layout rotating at ω_xy.
     pub fn normalised_frame(&self, c_plus: f64, c_minus: f64) -> Matrix3<f64> {
         let (sp, cp) = self.theta_p_rad.sin_cos();
@@ -382,7 +382,7 @@ impl SwarmPlane {
         shat_from_s * s_from_oj2 * Matrix3::from_diagonal(&Vector3::new(c_plus, c_minus, 1.0))
     }
 
-    /// Measured plane angles (Θ̂_P, Θ̂_z-xy) \[rad\] of a pair's parameters (spec §5.7):
+    /// Measured plane angles (Θ̂_P, Θ̂_z-xy) \[rad\] of a pair's parameters (method page §5.7):
     /// δθ = wrap(θ_z − θ_xy), Θ̂z = atan(tan δθ / 2), Θ̂_P = atan2(r_xy cos Θ̂z, r_z cos δθ).
     /// `None` when r_xy ≤ `min_amplitude_m` (the angles are then undefined or noisy).
     pub fn measured_angles_rad(p: &OrbitParameters, min_amplitude_m: f64) -> Option<(f64, f64)> {
@@ -403,7 +403,7 @@ impl SwarmPlane {
     }
 }
 
-/// The de-rotation C^{S̄/Ŝ}(t) \[-\] (spec §5.6): turns the {Ŝ} layout, which rotates rigidly at ω_xy on
+/// The de-rotation C^{S̄/Ŝ}(t) \[-\] (method page §5.6): turns the {Ŝ} layout, which rotates rigidly at ω_xy on
 /// target, into time-invariant positions of the de-rotated frame {S̄}.
 pub fn derotation(omega_xy_rad_s: f64, t_s: f64) -> Matrix3<f64> {
     let (s, c) = (omega_xy_rad_s * t_s).sin_cos();
@@ -416,7 +416,7 @@ pub fn derotation(omega_xy_rad_s: f64, t_s: f64) -> Matrix3<f64> {
     m
 }
 
-/// The z-frequency feed-forward (spec §5.3, Eq. 10 with the corrected sign) \[m/s²\]:
+/// The z-frequency feed-forward (method page §5.3, Eq. 10 with the corrected sign) \[m/s²\]:
 /// u_dz = (ω_z² − ω_xy²) z, which turns z̈ = −ω_z² z into z̈ = −ω_xy² z. `z_m`: cross-track offset
 /// from any common origin \[m\].
 pub fn z_frequency_feedforward_m_s2(omega_z_rad_s: f64, omega_xy_rad_s: f64, z_m: f64) -> f64 {
@@ -428,7 +428,7 @@ mod tests {
     use super::*;
 
     fn spec_model() -> AveragedJ2 {
-        // The spec's constants (§1.3 and Appendix A): μ = 3.986e14, k_J2 = 2.633e25 = 1.5 J2 μ R².
+        // The constants of our reconstruction (method page §1.3): μ = 3.986e14, k_J2 = 2.633e25 = 1.5 J2 μ R².
         let mu = 3.986e14;
         let r_e = 6378.137e3;
         let j2 = 2.633e25 / (1.5 * mu * r_e * r_e);
@@ -446,7 +446,7 @@ mod tests {
         let k = spec_model();
         let p = OrbitParameters::from_array([0.01, 0.2, -0.1, 0.3, 0.05, -0.15]);
         let s = k.state(&p);
-        // spec §11.3 test vector, printed to 7 significant digits: tolerance is half a unit of the
+        // our independently computed reference vector (method page §11.3), printed to 7 significant digits: tolerance is half a unit of the
         // last printed digit, relative
         let expected = [
             -0.07999467,
@@ -471,7 +471,7 @@ mod tests {
         let k = spec_model();
         let e2 = k.epsilon_2_rad_s();
         let h = |c1: f64, c4: f64| connectable_time_s(c1, c4, e2, 1.0) / 3600.0;
-        // spec §4.1 golden values, printed to 6 digits: 1e-5 relative
+        // our independently computed values for method page §4.1, printed to 6 digits: 1e-5 relative
         for (c1, c4, expect) in [
             (0.01, 0.3, 10.8558),
             (0.1, -0.5, 0.40072),
@@ -496,13 +496,13 @@ mod tests {
             theta_p_rad: deg(40.0),
             theta_zxy_rad: deg(50.0),
         };
-        // spec §5.5: S(Θ1) = 2 + 3.998e-5 (4 digits), S(Θ2) = 2.111984 (7 digits)
+        // method page §5.5: S(Θ1) = 2 + 3.998e-5 (4 digits), S(Θ2) = 2.111984 (7 digits)
         assert!((p1.distance_ratio(s) - 2.0 - 3.998e-5).abs() < 5e-9);
         assert!((p2.distance_ratio(s) - 2.111984).abs() < 5e-7);
-        // spec §5.2 golden value (7 digits)
+        // our independently computed value for method page §5.2 (7 digits)
         let (c5d, c6d) = p2.z_targets_m(0.2, -0.1);
         assert!((c5d - 0.3357961).abs() < 5e-8 && (c6d - 0.2885700).abs() < 5e-8);
-        // spec §5.6 golden matrix of Θ2, printed to 9 digits
+        // our independently computed §5.6 matrix of Θ2, printed to 9 digits
         let m = p2.normalised_frame(k.c_plus(), k.c_minus());
         #[rustfmt::skip]
         let expected = Matrix3::new(

@@ -1,15 +1,15 @@
-//! Schweighart–Sedwick (SS) J2-linearised relative motion, in the form of the Takahashi–Sakai spec.
+//! Schweighart–Sedwick (SS) J2-linearised relative motion, in the form Takahashi & Sakai use.
 //!
 //! Source: S. A. Schweighart, R. J. Sedwick, "High-Fidelity Linearized J2 Model for Satellite
 //! Formation Flight", *J. Guidance, Control, and Dynamics* 25(6), 2002, as restated in
-//! `docs/methods/j2-distance.md` (cited below as "spec").
+//! `docs/methods/j2-distance.md` (cited below as the "method page").
 //!
 //! # Frame
 //!
-//! The spec's frame {O} (§1.1) is the Hill/RSW frame: `x` radial out, `y` along-track, `z` orbit
+//! The method page's frame {O} (§1.1) is the Hill/RSW frame: `x` radial out, `y` along-track, `z` orbit
 //! normal. This module uses it unchanged; states are `[x, y, z, vx, vy, vz]` in m and m/s.
 //!
-//! # Constants (spec §1.3)
+//! # Constants (method page §1.3)
 //!
 //! From the reference radius `r` \[m\], inclination `i` \[rad\], Earth's `μ` \[m³/s²\], `R` \[m\]
 //! and `J2`:
@@ -27,7 +27,7 @@
 //! k₁   = (3 + 5s) / (4 (1 + s))            ratio          [-]
 //! ```
 //!
-//! # Dynamics (spec §2.3, Eq. 4, physical coordinates)
+//! # Dynamics (method page §2.3, Eq. 4, physical coordinates)
 //!
 //! ```text
 //! x'' − 2 ω_o c₊ y' − (3 + 5s) ω_o² x = ux
@@ -35,31 +35,31 @@
 //! z'' + ω_z² z                        = uz
 //! ```
 //!
-//! This is Eq. 4 after substituting the scaled coordinates `x̄ = c₊ x`, `ȳ = c₋ y` (spec §2.3,
+//! This is Eq. 4 after substituting the scaled coordinates `x̄ = c₊ x`, `ȳ = c₋ y` (method page §2.3,
 //! \[verified\] there and re-checked in `tests/val_relative.rs`). The cross-track equation is the
-//! identical-inclination case of the spec (`ω_z = ω_z,ref`, `l_z = 0`): the differential-nodal terms
+//! identical-inclination case of the method page (`ω_z = ω_z,ref`, `l_z = 0`): the differential-nodal terms
 //! of SS are not modelled.
 //!
-//! # Free motion (spec §2.4, Eq. 5)
+//! # Free motion (method page §2.4, Eq. 5)
 //!
 //! With `a = 2 ω_o c₊`, `b = (3 + 5s) ω_o²` and `a² − b = ω_xy²`, the in-plane motion is an
 //! oscillation at `ω_xy` about a centre drifting along-track at `−(b/ω_xy²)(vy0 + a x0)`, which is
-//! the spec's `−ε₂ C₁` with `C₁ = c₊ (vy0 + a x0) / (c₋² ω_o)` (§3.1).
+//! the method page's `−ε₂ C₁` with `C₁ = c₊ (vy0 + a x0) / (c₋² ω_o)` (§3.1).
 //! [`SchweighartSedwick::state_transition_matrix`] is that solution written as a matrix.
 //!
 //! # Limits of validity
 //!
 //! SS is a mean (J2-averaged) model about an artificial circular reference orbit. Against a truth
-//! propagation with J2, relative orbits set up with zero SS drift can still drift slowly (spec §3.5);
+//! propagation with J2, relative orbits set up with zero SS drift can still drift slowly (method page §3.5);
 //! that is model mismatch, not a bug.
 
 use nalgebra::{Matrix6, SMatrix, Vector3, Vector6};
 
 use super::series::{cosc, sinc, sinc3};
 
-/// Schweighart–Sedwick J2-linearised relative motion model (spec §2.3), Hill/RSW frame, SI units.
+/// Schweighart–Sedwick J2-linearised relative motion model (method page §2.3), Hill/RSW frame, SI units.
 ///
-/// Built once from the reference orbit's radius and inclination (spec §2.2); all constants of spec
+/// Built once from the reference orbit's radius and inclination (method page §2.2); all constants of method page
 /// §1.3 are available through accessors.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SchweighartSedwick {
@@ -76,7 +76,7 @@ pub struct SchweighartSedwick {
 impl SchweighartSedwick {
     /// SS model for a reference orbit of radius `reference_radius_m` \[m\] and inclination
     /// `inclination_rad` \[rad\], with Earth's gravitational parameter `mu_m3_s2` \[m³/s²\], equatorial
-    /// radius `earth_radius_m` \[m\] and second zonal harmonic `j2` \[-\]. Constants per spec §1.3 (see
+    /// radius `earth_radius_m` \[m\] and second zonal harmonic `j2` \[-\]. Constants per method page §1.3 (see
     /// the module docs). `j2 = 0` gives exactly the HCW model with `n = √(μ/r³)`.
     ///
     /// # Panics
@@ -144,59 +144,59 @@ impl SchweighartSedwick {
         self.inclination_rad
     }
 
-    /// Keplerian mean motion `ω_o = √(μ/r³)` of the reference radius \[rad/s\] (spec §1.3).
+    /// Keplerian mean motion `ω_o = √(μ/r³)` of the reference radius \[rad/s\] (method page §1.3).
     pub fn mean_motion_rad_s(&self) -> f64 {
         self.mean_motion_rad_s
     }
 
-    /// `k_J2 = (3/2) J2 μ R²` \[m⁵/s²\] (spec §1.3).
+    /// `k_J2 = (3/2) J2 μ R²` \[m⁵/s²\] (method page §1.3).
     pub fn k_j2_m5_s2(&self) -> f64 {
         self.k_j2_m5_s2
     }
 
-    /// SS J2 parameter `s_J2 = k_J2 (1 + 3 cos 2i) / (4 μ r²)` \[-\] (spec §1.3).
+    /// SS J2 parameter `s_J2 = k_J2 (1 + 3 cos 2i) / (4 μ r²)` \[-\] (method page §1.3).
     pub fn s_j2(&self) -> f64 {
         self.s_j2
     }
 
-    /// `c₊ = √(1 + s_J2)` \[-\] (spec §1.3; the `c` of Schweighart & Sedwick).
+    /// `c₊ = √(1 + s_J2)` \[-\] (method page §1.3; the `c` of Schweighart & Sedwick).
     pub fn c_plus(&self) -> f64 {
         self.c_plus
     }
 
-    /// `c₋ = √(1 − s_J2)` \[-\] (spec §1.3).
+    /// `c₋ = √(1 − s_J2)` \[-\] (method page §1.3).
     pub fn c_minus(&self) -> f64 {
         self.c_minus
     }
 
-    /// Rotation rate of the SS reference frame about `z`, `ω_ref = c₊ ω_o` \[rad/s\] (spec §1.3).
+    /// Rotation rate of the SS reference frame about `z`, `ω_ref = c₊ ω_o` \[rad/s\] (method page §1.3).
     pub fn omega_ref_rad_s(&self) -> f64 {
         self.c_plus * self.mean_motion_rad_s
     }
 
-    /// In-plane relative frequency `ω_xy = c₋ ω_o` \[rad/s\] (spec §1.3).
+    /// In-plane relative frequency `ω_xy = c₋ ω_o` \[rad/s\] (method page §1.3).
     pub fn omega_xy_rad_s(&self) -> f64 {
         self.c_minus * self.mean_motion_rad_s
     }
 
     /// Cross-track relative frequency `ω_z,ref = ω_o (c₊ + k_J2 cos² i / (μ r²))` \[rad/s\]
-    /// (spec §1.3, Eq. 3).
+    /// (method page §1.3, Eq. 3).
     pub fn omega_z_rad_s(&self) -> f64 {
         self.omega_z_rad_s
     }
 
-    /// Drift gain `ε₂ = (3 + 5 s_J2) ω_xy / (c₊ c₋)` \[rad/s\] (spec §1.3): the along-track drift rate
-    /// is `−ε₂ C₁` (spec §2.4).
+    /// Drift gain `ε₂ = (3 + 5 s_J2) ω_xy / (c₊ c₋)` \[rad/s\] (method page §1.3): the along-track drift rate
+    /// is `−ε₂ C₁` (method page §2.4).
     pub fn epsilon_2_rad_s(&self) -> f64 {
         (3.0 + 5.0 * self.s_j2) * self.omega_xy_rad_s() / (self.c_plus * self.c_minus)
     }
 
-    /// Input gain `k₀ = 2 c₊ / (ω_xy c₋)` \[s\] (spec §1.3, used by the C-parameter dynamics §3.4).
+    /// Input gain `k₀ = 2 c₊ / (ω_xy c₋)` \[s\] (method page §1.3, used by the C-parameter dynamics §3.4).
     pub fn k0_s(&self) -> f64 {
         2.0 * self.c_plus / (self.omega_xy_rad_s() * self.c_minus)
     }
 
-    /// Ratio `k₁ = (3 + 5 s_J2) / (4 (1 + s_J2))` \[-\] (spec §1.3).
+    /// Ratio `k₁ = (3 + 5 s_J2) / (4 (1 + s_J2))` \[-\] (method page §1.3).
     pub fn k1(&self) -> f64 {
         (3.0 + 5.0 * self.s_j2) / (4.0 * (1.0 + self.s_j2))
     }
@@ -212,7 +212,7 @@ impl SchweighartSedwick {
     }
 
     /// Time derivative of the Hill state \[m/s, m/s²\] under the control acceleration
-    /// `control_accel_hill_m_s2` \[m/s², Hill frame\] (spec §2.3, physical form).
+    /// `control_accel_hill_m_s2` \[m/s², Hill frame\] (method page §2.3, physical form).
     pub fn derivative(
         &self,
         state_hill: &Vector6<f64>,
@@ -242,7 +242,7 @@ impl SchweighartSedwick {
         )
     }
 
-    /// Closed-form state transition matrix `Φ(dt)` of the free SS motion (spec §2.4 as a matrix),
+    /// Closed-form state transition matrix `Φ(dt)` of the free SS motion (method page §2.4 as a matrix),
     /// mapping a Hill state at `t` to the Hill state at `t + dt` \[s\]. Any sign of `dt` is allowed.
     ///
     /// With `a = 2 ω_o c₊`, `b = (3 + 5s) ω_o²`, `ω = ω_xy`, `θ = ω dt`, `S, C = sin θ, cos θ`:
@@ -325,14 +325,14 @@ impl SchweighartSedwick {
     }
 
     /// Initial along-track velocity `vy` \[m/s\] that makes the free SS relative orbit starting at
-    /// radial offset `x_m` \[m\] drift-free: `vy = −2 ω_o c₊ x`, i.e. `C₁ = 0` (spec §3.1, §3.3). The
+    /// radial offset `x_m` \[m\] drift-free: `vy = −2 ω_o c₊ x`, i.e. `C₁ = 0` (method page §3.1, §3.3). The
     /// condition does not involve `vx`, `y` or the cross-track state.
     pub fn no_drift_velocity_y_mps(&self, x_m: f64) -> f64 {
         -self.coupling_rad_s() * x_m
     }
 
     /// Mean along-track velocity \[m/s\] of the free SS relative orbit through `state_hill`:
-    /// `−(3 + 5s)/(1 − s) · (vy + 2 ω_o c₊ x)`, equal to the spec's `−ε₂ C₁` (§2.4). Over any whole
+    /// `−(3 + 5s)/(1 − s) · (vy + 2 ω_o c₊ x)`, equal to the method page's `−ε₂ C₁` (§2.4). Over any whole
     /// number of in-plane periods `2π/ω_xy`, `y` changes by exactly this times the elapsed time.
     pub fn along_track_drift_mps(&self, state_hill: &Vector6<f64>) -> f64 {
         let w = self.omega_xy_rad_s();

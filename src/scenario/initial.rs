@@ -112,9 +112,9 @@ pub fn with_velocity(
         .collect()
 }
 
-/// Relative states from averaged-J2 parameters drawn uniformly per satellite (Takahashi–Sakai spec §10.1):
+/// Relative states from averaged-J2 parameters drawn uniformly per satellite (Takahashi & Sakai; `docs/methods/j2-distance.md` §10.1):
 /// C₁ in ±`c1_max_m`, C₄ in ±`c4_max_m`, C₂, C₃, C₅, C₆ in ±`amplitude_max_m` \[m\], converted with
-/// `model` (spec §3.2). Satellite `origin` (if any) gets C = 0. One stream per satellite.
+/// `model` (`docs/methods/j2-distance.md` §3.2). Satellite `origin` (if any) gets C = 0. One stream per satellite.
 pub fn averaged_j2(
     seed: u64,
     count: usize,

@@ -295,10 +295,10 @@ pub enum InitialSection {
         #[serde(default)]
         velocity: InitialVelocity,
     },
-    /// Averaged-J2 relative orbital parameters C₁…C₆ (Takahashi–Sakai spec §3, §10.1), drawn
+    /// Averaged-J2 relative orbital parameters C₁…C₆ (Takahashi & Sakai; our reconstruction `docs/methods/j2-distance.md` §3, §10.1), drawn
     /// independently and uniformly per satellite: |C₁| ≤ `c1_max_m`, |C₄| ≤ `c4_max_m`, and C₂, C₃, C₅, C₆
     /// within ±`amplitude_max_m`; converted to Hill states with the Schweighart–Sedwick model of the
-    /// reference orbit (spec §3.2). The member origin (if any) sits at C = 0 (the reference satellite).
+    /// reference orbit (`docs/methods/j2-distance.md` §3.2). The member origin (if any) sits at C = 0 (the reference satellite).
     AveragedJ2 {
         /// Bound of |C₁| \[m\].
         c1_max_m: f64,

@@ -18,11 +18,11 @@ use satflock::scenario::schema::ActionSection;
 use satflock::scenario::{merge_law_parameters, Scenario};
 use satflock::swarm::{Recorder, Simulation, Snapshot};
 
-/// Seeds of the seed-dependent reproductions (spec §6: at least 5, median reported).
+/// Seeds of the seed-dependent reproductions (method page §6: at least 5, median reported).
 pub const SEEDS: [u64; 5] = [1, 2, 3, 4, 5];
 
 /// Offset between the `gao-reconfiguration` clock and Table 5's clock \[s\]: the disk forms for 2000 s
-/// before Table 5's t = 0 (spec §4.2).
+/// before Table 5's t = 0 (method page §4.2).
 pub const TABLE5_OFFSET_S: f64 = 2000.0;
 
 fn failed(e: impl std::fmt::Display) -> ValidateError {
@@ -246,7 +246,7 @@ pub const TABLE5_CENTRE: [(f64, [f64; 6]); 4] = [
     ),
 ];
 
-/// O3: propagates Table 5's t = 0 centre with `gravity` (spec constants: μ = 398600.4418 km³/s²,
+/// O3: propagates Table 5's t = 0 centre with `gravity` (the paper's constants: μ = 398600.4418 km³/s²,
 /// R = 6378.137 km, J2 = 1.08263e-3) and returns, at 1000/1500/2000 s, the position and velocity
 /// differences from Table 5 \[m, m/s\].
 pub fn table5_centre_errors(gravity: GravityModel) -> Result<Vec<(f64, f64, f64)>, ValidateError> {
@@ -327,12 +327,12 @@ pub fn ring_assignment(
 #[derive(Clone, Copy, Debug)]
 pub struct FilledShape {
     /// Median over satellites of ρ/ρ_max (uniform disk 0.71, uniform ball 0.79, any ring or shell 1.0);
-    /// reported only: this law piles satellites at the boundary (the spec's 1+8+16+25 disk lattice
+    /// reported only: this law piles satellites at the boundary (our 1+8+16+25 disk lattice
     /// already gives 0.83), so it does not separate filled from hollow.
     pub median_ratio: f64,
     /// Widest empty annulus (shell in 3-D) of the shape coordinate, largest gap between consecutive
     /// sorted values of ρ/ρ_max counting from the centre (0): a single ring or shell has ≈ 1, two rings
-    /// at ρ_max/3 and ρ_max 0.67, the spec's 1+8+16+25 disk lattice (§5) 1/3.
+    /// at ρ_max/3 and ρ_max 0.67, our 1+8+16+25 disk lattice (method page §5) 1/3.
     pub largest_radial_gap: f64,
     /// Aspect error: the RMS extents along the shape's axes, divided by the commanded semi-axis ratios
     /// (a : b in 2-D, a : b : c in 3-D), max/min − 1 (0 for a level set of the commanded shape).
@@ -342,7 +342,7 @@ pub struct FilledShape {
 }
 
 impl FilledShape {
-    /// Filled (no empty annulus wider than 0.4 ρ_max: a lattice of rings as sparse as the spec's
+    /// Filled (no empty annulus wider than 0.4 ρ_max: a lattice of rings as sparse as our
     /// reference disk passes, one or two rings do not), commanded aspect within 10 % (finite-N sampling
     /// of 50 points), in-plane within 3 % (as the surfaces).
     pub fn formed(&self) -> bool {
@@ -367,7 +367,7 @@ pub fn filled_shape(trace: &Trace, k: usize) -> FilledShape {
     let max = coordinates.iter().copied().fold(0.0, f64::max);
     let planar = p.dimension == satflock::guidance::bifurcating::Dimension::Planar;
     // Semi-axes of a level set of ρ are ∝ (a, b) along (x, z) in 2-D and (a, b, c) along (x, y, z) in
-    // 3-D (spec §3.4 table), so RMS extent / factor is the same on every axis for a filled level set.
+    // 3-D (method page §3.4 table), so RMS extent / factor is the same on every axis for a filled level set.
     let rms = |f: fn(&Vector3<f64>) -> f64| {
         (q.iter().map(|v| f(v).powi(2)).sum::<f64>() / q.len() as f64).sqrt()
     };
@@ -413,7 +413,7 @@ pub fn line_distance_m(trace: &Trace, k: usize) -> f64 {
         .max(e.max_out_of_plane_m)
 }
 
-/// Linear stability of a straight line of satellites (spec §3.2 repulsion, line potential b = 0,
+/// Linear stability of a straight line of satellites (method page §3.2 repulsion, line potential b = 0,
 /// μ < 0): the alternating "zigzag" mode z_j = ±ε at along-track spacing δ feels the outward stiffness
 /// 2 Σ_{odd j, both sides, jδ < s} k_c (s/(jδ) − 1) against the line's restoring stiffness k_f a²|μ|
 /// (φ''(0) = |μ|). Returns the smallest spacing at which the straight line is stable \[m\].
@@ -546,7 +546,7 @@ pub fn report() -> Result<Report, ValidateError> {
             .collect())
     };
 
-    // O1: closed form of L for 50 evenly spaced points on a circle (spec §2).
+    // O1: closed form of L for 50 evenly spaced points on a circle (method page §2).
     let n = 50usize;
     let ring: Vec<[f64; 3]> = (0..n)
         .map(|k| {

@@ -8,11 +8,11 @@
 //! pigeon plane (z, y), independently of the law's own metric columns (which are only cross-checked);
 //! the obstacle clearance comes from the engine's continuous monitor.
 //!
-//! Criteria, fixed from the spec's §5 table before any run:
+//! Criteria, fixed before any run (our reconstruction, `docs/methods/pigeon.md`):
 //! * P1: median over seeds of the stabilisation time of the mean pair distance d̄ — the last time d̄
 //!   leaves a ±2 % band around its "final" value. "Final" is d̄ at the end of the first
 //!   [`WINDOW_S`] = 200 s (the comparison window: the paper's Fig. 4 plots about 100 s, so its "stable at
-//!   58 s" is read against the end of a short window; the spec's prototype also reports within 200 s).
+//!   58 s" is read against the end of a short window; our earlier prototype also reports within 200 s).
 //!   The same quantity against d̄(6000 s) is reported beside it. Reproduced when Q1 ≤ Q2 (medians) and
 //!   the Q1 median is within 58 s ± 30 %.
 //! * P2: first time d̄_T < R_L^2 = 50 m (never = ∞); reproduced when the Q1 median is earlier than Q2's.
@@ -23,7 +23,7 @@
 //! * P5: max_i |x_i| < 0.5 m after 60 s, every Q1 and Q2 run.
 //! * P6: obstacle clearance ≥ R_L^4 = 10 m, every Q1 and Q2 run (the engine's continuous monitor).
 //! * P7: pair separation in the pigeon plane ≥ 15 m at every tick, every Q1 and Q2 run (design intent
-//!   20 m; the spec gates at 15 m because the barrier is soft under the 5 m/s² cap).
+//!   20 m; we gate at 15 m because the barrier is soft under the 5 m/s² cap).
 
 use nalgebra::Vector3;
 
@@ -58,7 +58,7 @@ pub const P4_FROM_S: f64 = 500.0;
 pub const P5_AFTER_S: f64 = 60.0;
 /// P5 bound on |x| \[m\].
 pub const P5_MAX_X_M: f64 = 0.5;
-/// P7 gate on the pair separation \[m\] (spec §5).
+/// P7 gate on the pair separation \[m\] (our criterion, see above).
 pub const P7_MIN_SEPARATION_M: f64 = 15.0;
 /// Amplitude of the group's swing about the target at which the extension's damping is chosen
 /// critically damped: the middle of the earlier prototype's band d̄_T ≈ 150–600 m, i.e. r − R_L^2 ≈ 325 m.

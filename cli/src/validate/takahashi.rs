@@ -1,5 +1,5 @@
 //! Reproduction of Takahashi & Sakai (seed 002) with the `j2-distance` law: the §4.1 connectable-period
-//! comparison on the linear model (spec `takahashi-sakai-j2-distance.md` §10.2, tests T1–T3 of §11.2), the
+//! comparison on the linear model (method page `docs/methods/j2-distance.md` §10.2, tests T1–T3 of §11.2), the
 //! §4.2 deployments into two planes under truth J2 (§10.3, T4–T11 of §11.3), the paper's qualitative
 //! claims P1–P6 (§11.1) and the outage experiment of §8 (predicted T̂_conn vs measured exit times).
 //!
@@ -143,7 +143,7 @@ pub fn scenario(
     Ok(s)
 }
 
-/// The §4.1 statistics of spec §11.2, relative to the reference satellite (index `origin`, excluded).
+/// The §4.1 statistics of method page §11.2, relative to the reference satellite (index `origin`, excluded).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConnectableStats {
     /// First time from which max|C₁| < 1e-3 m and max|C₄| < 1e-2 m for the rest of the run \[h\].
@@ -234,7 +234,7 @@ pub fn connectable_stats(run: &TracedRun, origin: usize, range_m: f64) -> Connec
     }
 }
 
-/// The §4.2 statistics of spec §11.3 at the end of a plane run, relative to the reference satellite.
+/// The §4.2 statistics of method page §11.3 at the end of a plane run, relative to the reference satellite.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlaneStats {
     /// max_j |C₁,j| at the end \[m\].
@@ -337,7 +337,7 @@ pub struct EdgeDistanceStats {
     /// Median over edges of the RMS distance \[m\].
     pub median_rms_m: f64,
     /// Largest and median peak-to-peak over mean when each edge's parameters at the start of the free
-    /// orbit are propagated with the averaged-J2 closed form (spec Eq. 5) instead of the truth model,
+    /// orbit are propagated with the averaged-J2 closed form (paper Eq. 5) instead of the truth model,
     /// at the same sample times \[-\].
     pub model_p2p: (f64, f64),
     /// The worst edge at the start of the free orbit: (j, k), |C₁,jk|, |C₄,jk|, r_xy,jk \[m\], and the
@@ -422,7 +422,7 @@ pub fn edge_distance_stats(run: &TracedRun) -> EdgeDistanceStats {
     }
 }
 
-/// The outage experiment (spec §8) for one run whose links are all cut at `off_s`: per satellite
+/// The outage experiment (method page §8) for one run whose links are all cut at `off_s`: per satellite
 /// relative to the reference, T̂_conn and the strict T̲_out predicted at switch-off, and the measured
 /// times (after switch-off) at which the ellipse centre ‖[2C₁, C₄]‖ and the distance ‖r‖ first exceed r_s.
 #[derive(Clone, Debug, PartialEq)]
@@ -583,7 +583,7 @@ pub fn report() -> Result<Report, ValidateError> {
             && os.growing_fraction >= 0.85
             && ml.median_tconn_1h_h > ol.median_tconn_1h_h,
     ));
-    // T2's large-C1 clause by seed (the spec's §11.2 ranges are over seeds 1–3): the first 2 h suffice
+    // T2's large-C1 clause by seed (the earlier prototype's ranges of method page §11.2 are over seeds 1–3): the first 2 h suffice
     // for the median T̂_conn at 1 h.
     let mut by_seed = Vec::new();
     for seed in 1..=3u64 {
@@ -757,7 +757,7 @@ pub fn report() -> Result<Report, ValidateError> {
         ));
     }
     // Θ2 split vs the initial draw (seed): the first 4 h of ts-plane-2 for seeds 1–8. A split happens,
-    // if at all, in the saturated transient of the first 2 h (spec §11.2 met the same failure mode with
+    // if at all, in the saturated transient of the first 2 h (method page §11.2 met the same failure mode with
     // k_z = k_A); this measures how often the defaults meet it.
     let mut sweep = Vec::new();
     for seed in 1..=8u64 {
@@ -842,7 +842,7 @@ pub fn report() -> Result<Report, ValidateError> {
         p6 && p4,
     ));
     notes.push("P5: under truth J2 the measured C1 and C4 keep small forced residuals from the inexact Schweighart–Sedwick no-drift condition (docs/methods/j2-distance.md §3.5); the paper's figures, unavailable, claim convergence to the origin.".into());
-    // Outage experiment (spec §8), truth model.
+    // Outage experiment (method page §8), truth model.
     for variant in [Variant::Main, Variant::Opp] {
         let s = scenario("ts-outage", Some(variant), None).map_err(failed)?;
         let run = traced_run(&s, 60.0, 3600.0).map_err(failed)?;

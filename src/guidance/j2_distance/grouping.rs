@@ -2,11 +2,11 @@
 //! (Algorithm 1) on a 2-D Delaunay triangulation (DT) of the swarm in the normalised swarm frame {Ŝ}.
 //!
 //! **This step is centralised**: it needs every satellite's position and the pair parameters of every
-//! candidate pair at once (spec `takahashi-sakai-j2-distance.md` §9, §13). The law runs it as the engine's
+//! candidate pair at once (method page `docs/methods/j2-distance.md` §9, §13). The law runs it as the engine's
 //! periodic centralised step ([`crate::swarm::GuidanceLaw::centralised_update`]); the control itself
 //! stays decentralised (each satellite uses only its neighbours' relative states).
 //!
-//! Steps (spec §9.2–9.3):
+//! Steps (method page §9.2–9.3):
 //! 1. P_j = rows 2–3 of C^{Ŝ/O} r_j (the swarm-plane layout, §5.6);
 //! 2. DT of {P_j} (crate `delaunator`);
 //! 3. outer-edge pruning \[reconstruction, §9.3\]: drop DT edges longer than κ·2r_xyd, then re-add the
@@ -17,7 +17,7 @@
 //!
 //! Since every satellite leads, the union does not depend on the leader order (the DT degree ordering of
 //! Algorithm 1 line 4 is therefore not needed). The bounds n̄_{l←f} and "no shared edge" are not
-//! enforced by the printed algorithm, nor here (spec §9.2, §12 item 13).
+//! enforced by the printed algorithm, nor here (method page §9.2, §12).
 
 use delaunator::{triangulate, Point};
 
@@ -30,7 +30,7 @@ pub struct Node {
     pub plane_m: [f64; 2],
 }
 
-/// Settings of the grouping (spec §9.2–9.3, §10.1).
+/// Settings of the grouping (method page §9.2–9.3, §10.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GroupingSettings {
     /// Maximum followers per leader n̄_f \[-\].
@@ -113,7 +113,7 @@ fn delaunay_edges(points: &[[f64; 2]]) -> Vec<(usize, usize)> {
     edges
 }
 
-/// Outer-edge pruning with connectivity repair (spec §9.3): keeps edges no longer than `limit_m`, then
+/// Outer-edge pruning with connectivity repair (method page §9.3): keeps edges no longer than `limit_m`, then
 /// re-adds the others in ascending length when they join two components. `edges` are local indices.
 fn prune(points: &[[f64; 2]], edges: Vec<(usize, usize)>, limit_m: f64) -> Vec<(usize, usize)> {
     let mut components = Components::new(points.len());
@@ -137,7 +137,7 @@ fn prune(points: &[[f64; 2]], edges: Vec<(usize, usize)>, limit_m: f64) -> Vec<(
     kept
 }
 
-/// Algorithm 1 (spec §9.2) with the pruning of §9.3. `connectable_time_s(a, b)` is T̂_conn \[s\] of the pair
+/// Algorithm 1 (method page §9.2) with the pruning of §9.3. `connectable_time_s(a, b)` is T̂_conn \[s\] of the pair
 /// of nodes `a`, `b` (local indices into `nodes`). Deterministic: ties are broken by distance, then index.
 pub fn group(
     nodes: &[Node],

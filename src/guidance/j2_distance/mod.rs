@@ -2,7 +2,7 @@
 //! (main, Eq. 15) and the opposing baseline (Eq. 16), with the barrier s(r), the practical gain design,
 //! actuation bound and DT grouping.
 //!
-//! Source: `docs/methods/j2-distance.md` ("spec"): §3 (parameters C₁…C₆, via
+//! Source: `docs/methods/j2-distance.md` (the "method page"): §3 (parameters C₁…C₆, via
 //! [`crate::relative::j2_averaged`]), §5 (plane targets), §6.3 (antisymmetric pair terms), §7.1 (barrier,
 //! clamped), §7.2 (distance function with (ϱ, ς, τ) = (2c₊, 0, 1)), §7.3 (Eq. 15), §7.4 (Eq. 16), §7.6
 //! (gain design from the Laplacian eigenvalues, γ_B cap; or the §4.1 preset), §7.7 (norm saturation
@@ -13,7 +13,7 @@
 //! u_j = Σ_k u_{j←k}(C_jk), then u_j ← u_j min(1, f̄/(m_j‖u_j‖)).
 //!
 //! **Centralised part.** The neighbour sets come from Algorithm 1, which needs the whole swarm: it runs as
-//! the engine's periodic centralised step on the schedule of spec §9.5 (5, 10, 20, 40 min per quarter of
+//! the engine's periodic centralised step on the schedule of method page §9.5 (5, 10, 20, 40 min per quarter of
 //! the schedule's end time), or once at the start. The gains of §7.6 are recomputed at each grouping from
 //! the Laplacian's eigenvalues, also centrally. The control itself is decentralised: each satellite uses
 //! only its neighbours' relative states and these broadcast quantities.
@@ -49,7 +49,7 @@ pub enum Variant {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum GainDesign {
-    /// Spec §7.6: from λ₂ and λ_max of the current Laplacian at every grouping, with the γ_B cap.
+    /// Method page §7.6: from λ₂ and λ_max of the current Laplacian at every grouping, with the γ_B cap.
     #[default]
     Theorem,
     /// The paper's §4.1 preset (for k_B = 0): γ_B = 1, ψ = 0, g₀ = 0, f₀ = −ε₂/(2k_A).
@@ -61,14 +61,14 @@ pub enum GainDesign {
 #[serde(rename_all = "kebab-case")]
 pub enum GroupingSchedule {
     /// At the start, then every `grouping_first_period_s`, doubled at each quarter of
-    /// `grouping_schedule_end_s` (spec §9.5).
+    /// `grouping_schedule_end_s` (method page §9.5).
     #[default]
     Growing,
     /// Once, at the start (fixed grouping of the §4.1 comparison).
     Once,
 }
 
-/// Parameters of the `j2-distance` law (defaults: spec §10.1).
+/// Parameters of the `j2-distance` law (defaults: method page §10.1).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct J2DistanceParameters {
@@ -135,7 +135,7 @@ pub struct J2DistanceParameters {
     /// End time of the growing schedule \[s\] (usually the run's duration; default 432000 = 120 h).
     #[serde(default = "default_schedule_end")]
     pub grouping_schedule_end_s: f64,
-    /// Add the z-frequency feed-forward (ω_z² − ω_xy²) z_j (spec §5.3; default false).
+    /// Add the z-frequency feed-forward (ω_z² − ω_xy²) z_j (method page §5.3; default false).
     #[serde(default)]
     pub z_frequency_feedforward: bool,
 }
@@ -257,7 +257,7 @@ fn check(p: &J2DistanceParameters) -> Result<(), LawError> {
     Ok(())
 }
 
-/// The gains of Eq. 15 besides k_A, k_B, k_z, γ_A (spec §7.6), and the eigenvalues they came from.
+/// The gains of Eq. 15 besides k_A, k_B, k_z, γ_A (method page §7.6), and the eigenvalues they came from.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Gains {
     /// γ_B \[-\].
@@ -276,7 +276,7 @@ pub struct Gains {
     pub lambda_max: f64,
 }
 
-/// The theorem gains of spec §7.6 from ρ = ε₂/k_A and the Laplacian's λ₂, λ_max:
+/// The theorem gains of method page §7.6 from ρ = ε₂/k_A and the Laplacian's λ₂, λ_max:
 /// a = α_a ρ/λ_max, b = min(α_b ρ/λ₂, a + 4γ_B,max), λ₀ = (a+b)/2, γ_B = (b−a)/4,
 /// ψ = (1−k₁)/k₁ (−λ₀ + √(λ₀² − 4γ_B²)), f₀ = ψ/2 − λ₀, g₀ = −k₁f₀ − λ₀.
 pub fn theorem_gains(
@@ -309,7 +309,7 @@ pub fn theorem_gains(
     }
 }
 
-/// Clamped barrier s(r) \[-\] (spec §7.1): (r − r_d)/(r − r̲) + (r − r_d)/((2r_d − r̲) − r), evaluated at
+/// Clamped barrier s(r) \[-\] (method page §7.1): (r − r_d)/(r − r̲) + (r − r_d)/((2r_d − r̲) − r), evaluated at
 /// r clamped to [r̲ + η, 2r_d − r̲ − η], η = `clamp_fraction`·(r_d − r̲). Lengths in m.
 pub fn barrier(r_m: f64, target_m: f64, lower_m: f64, clamp_fraction: f64) -> f64 {
     let eta = clamp_fraction * (target_m - lower_m);
@@ -376,7 +376,7 @@ struct InstantMetrics {
     saturated_fraction: f64,
 }
 
-/// Columns of `metrics.csv` the law adds (spec §13 "Recorder and metrics"), in this order.
+/// Columns of `metrics.csv` the law adds (method page §13 "Recorder and metrics"), in this order.
 const METRIC_NAMES: &[&str] = &[
     "ts_max_abs_c1_m",
     "ts_max_abs_c4_m",
@@ -569,7 +569,7 @@ impl J2Distance {
         Some(m)
     }
 
-    /// Grouping period in effect at `time_s` (spec §9.5) \[s\]; infinite for the `once` schedule.
+    /// Grouping period in effect at `time_s` (method page §9.5) \[s\]; infinite for the `once` schedule.
     fn grouping_period_s(&self, time_s: f64) -> f64 {
         let p = &self.parameters;
         match p.grouping {
@@ -766,7 +766,7 @@ impl GuidanceLaw for J2Distance {
         _context: &LawContext,
     ) -> Vector3<f64> {
         let u = self.raw_command(satellite);
-        // Norm saturation ‖f‖ ≤ f̄ (spec §7.7): u ← u min(1, f̄/(m‖u‖)).
+        // Norm saturation ‖f‖ ≤ f̄ (method page §7.7): u ← u min(1, f̄/(m‖u‖)).
         let limit = self.parameters.max_force_n / satellite.mass_kg();
         let norm = u.norm();
         if norm > limit {
@@ -777,7 +777,7 @@ impl GuidanceLaw for J2Distance {
     }
 
     /// The fastest linear closed-loop rate of Eq. 15/16 \[1/s\] (independent of mass: the law commands
-    /// accelerations). Per Laplacian eigenvalue λ (spec §3.4, §7.3): the C₁ loop decays at k_A λ/2, the
+    /// accelerations). Per Laplacian eigenvalue λ (method page §3.4, §7.3): the C₁ loop decays at k_A λ/2, the
     /// C₄ loop at k_A γ_A γ_B² λ/2 (main; k_A γ_A λ/2 for opp) and the C₅ loop at k_z λ. The distance
     /// loop near r_xyd is slower (about k_B γ_B² λ · 2r_xyd/(r_xyd − r̲) · c₋²/(4k₁²) ≈ 0.023 γ_B² λ with the
     /// defaults). γ_B is taken at its cap γ_B,max (1 for the §4.1 preset; the theorem design sits there while λ₂ is small, the
@@ -910,7 +910,7 @@ mod tests {
 
     #[test]
     fn val_barrier_golden_values() {
-        // spec §7.1 golden values (r_xyd = 0.25, r̲ = 0.1, η = 0.0075), printed to 7 digits
+        // our independently computed values for method page §7.1 (r_xyd = 0.25, r̲ = 0.1, η = 0.0075), printed to 7 digits
         let expected = [-6.964286, -0.75, 0.0, 0.75, 6.964286, 19.487179];
         for (r, e) in [0.12, 0.2, 0.25, 0.3, 0.38, 1.0].into_iter().zip(expected) {
             assert!((barrier(r, 0.25, 0.1, 0.05) - e).abs() < 5e-7, "s({r})");
@@ -919,7 +919,7 @@ mod tests {
 
     #[test]
     fn val_theorem_gains_satisfy_eq_17_18() {
-        // λ values typical of spec §7.6; ρ = ε₂/k_A with the spec's constants.
+        // λ values typical of method page §7.6; ρ = ε₂/k_A with the constants of method page §1.3.
         let (rho, k1) = (3.3259368e-3 / 1.5e-2, 0.7500533);
         let g = theorem_gains(rho, k1, 0.15, 9.25, 0.5, 1.0, 1.0);
         // Eq. 17: ψ solves (k₁/(1−k₁))ψ = −λ₀ + √(λ₀² − 4γ_B²); f₀, g₀ as defined
@@ -929,7 +929,7 @@ mod tests {
         // Eq. 18 for λ₂ and λ_max (the cap is inactive here): equalities of the design, to rounding
         assert!(rho / (g.lambda_0 + 2.0 * g.gamma_b) <= 0.15 * (1.0 + 1e-12));
         assert!(9.25 <= rho / (g.lambda_0 - 2.0 * g.gamma_b) * (1.0 + 1e-12));
-        // spec §7.6 typical settled values: γ_B 0.33–0.40, ψ −0.18 to −0.23, f₀ −0.76 to −0.93,
+        // method page §7.6 typical settled values: γ_B 0.33–0.40, ψ −0.18 to −0.23, f₀ −0.76 to −0.93,
         // g₀ −0.10 to −0.12
         assert!((0.33..=0.40).contains(&g.gamma_b), "{g:?}");
         assert!((-0.23..=-0.18).contains(&g.psi), "{g:?}");
@@ -960,7 +960,7 @@ mod tests {
 
     #[test]
     fn val_pair_terms_are_odd() {
-        // spec §6.3: u_{k←j} = −u_{j←k}, so the swarm's total force is zero before saturation.
+        // method page §6.3: u_{k←j} = −u_{j←k}, so the swarm's total force is zero before saturation.
         let mut law = J2Distance::new(J2DistanceParameters {
             plane_theta_p_deg: 40.0,
             plane_theta_zxy_deg: 50.0,

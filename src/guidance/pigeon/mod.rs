@@ -402,7 +402,7 @@ impl GuidanceLaw for Pigeon {
         }
     }
 
-    /// The saturated thrust f̄, Hill frame \[m/s²\] (spec §3).
+    /// The saturated thrust f̄, Hill frame \[m/s²\] (`docs/methods/pigeon.md`).
     fn command(
         &self,
         satellite: &SatelliteView<'_>,

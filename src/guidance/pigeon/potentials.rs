@@ -1,5 +1,5 @@
 //! The artificial potentials of the `pigeon` law as functions of a 2-D distance r \[m\] in the y–z plane:
-//! formation V^F (spec Eq. 6, reconstructed), target V^T (Eq. 7) and obstacle V^O (Eq. 15,
+//! formation V^F (Qiu et al. Eq. 6, reconstructed), target V^T (Eq. 7) and obstacle V^O (Eq. 15,
 //! reconstructed), each with its radial slope dV/dr. The law uses the slopes; the potentials exist so
 //! the slopes can be checked against them (the additive constants are irrelevant).
 //!

@@ -1,4 +1,4 @@
-//! Interaction-pattern switching of the `pigeon` law: the egalitarian link rule with hysteresis (spec
+//! Interaction-pattern switching of the `pigeon` law: the egalitarian link rule with hysteresis (paper
 //! Eq. 3), the hierarchical link rule (Eq. 4), the order parameter of a set of velocities (§2.6) and the
 //! probability p_h of the hierarchical pattern (Eq. 13). Distances and velocities are 2-D, in the
 //! law's pigeon plane (z, y) of the Hill frame.

@@ -221,7 +221,7 @@ fn order_parameter_uses_the_previous_ticks_pattern_set() {
 #[test]
 fn stabilisation_time_is_the_first_recording_inside_the_final_band_for_good() {
     // Final value 40 m, band ±0.8 m: 41 m (t = 2 s) and 42 m (t = 4 s) are outside, 40.5 m (t = 3 s)
-    // inside but not for good, so the spacing is stable from t = 5 s (the spec's "last time it leaves
+    // inside but not for good, so the spacing is stable from t = 5 s (our reading of "last time it leaves
     // the ±2 % band"); a history always inside the band is stable from its first recording.
     let mut law = Pigeon::new(PigeonParameters::default()).unwrap();
     assert_eq!(law.stabilisation_time_s(), None);

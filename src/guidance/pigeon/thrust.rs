@@ -1,6 +1,6 @@
 //! Step 5 of the paper's Algorithm 1: the thrust that realises the desired accelerations on the
 //! Clohessy–Wiltshire (CW/HCW) equations, its per-axis saturation, and the accelerations the saturated
-//! thrust actually produces (spec §3, with the paper's Eq. 18 corrected to the CW y-equation).
+//! thrust actually produces (`docs/methods/pigeon.md`, with the paper's Eq. 18 corrected to the CW y-equation).
 //!
 //! CW, Hill frame (x radial out, y along-track, z orbit normal), mean motion n \[rad/s\]:
 //! ẍ − 2nẏ − 3n²x = f^x, ÿ + 2nẋ = f^y, z̈ + n²z = f^z \[m/s²\].
