@@ -262,3 +262,27 @@ fn fuzz_unmutated_builtins_pass_the_harness() {
         check(b.name, &round_trip).unwrap();
     }
 }
+
+/// Found by the fuzzer: `avoidance_radius_m` beyond the sensing range passed validation and the law's
+/// refusal at build time came back without the file or the key (exit 1 in the CLI).
+#[test]
+fn regress_fuzz_law_refusal_at_build_names_file_and_key() {
+    let b = BUILTINS
+        .iter()
+        .find(|b| b.name == "gao-double-circle")
+        .unwrap();
+    let text = b.toml.replace(
+        "avoidance_radius_m = 200.0",
+        "avoidance_radius_m = 1000000000",
+    );
+    assert_ne!(text, b.toml);
+    let scenario = Scenario::from_toml(&text, SOURCE, Path::new(".")).unwrap();
+    let err = build_simulation(&scenario)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(err.contains(SOURCE), "{err}");
+    assert!(err.contains("key `law`"), "{err}");
+    assert!(err.contains("avoidance_radius_m"), "{err}");
+    check("regression", &text).unwrap();
+}
