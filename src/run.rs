@@ -47,12 +47,35 @@ pub enum RunError {
 /// point for tools that drive the run themselves with [`Simulation::advance_to`].
 pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
     let prepared = scenario.prepare()?;
-    Ok(Simulation::new(
+    Simulation::new(
         prepared.config,
         &prepared.satellites,
         prepared.law,
         prepared.events,
-    )?)
+    )
+    .map_err(|e| setup_error(scenario, e))
+}
+
+/// A refusal of the engine's setup (after validation) is the scenario's fault: it becomes a
+/// [`ScenarioError::Invalid`] naming the file and the key, like the validation's own errors.
+fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
+    let key = match &e {
+        SimError::Law(_) => "law",
+        SimError::NoSatellites => "satellites.count",
+        SimError::SensingRange { .. } => "sensing.range_m",
+        SimError::OriginMember { .. } => "reference.origin_member",
+        SimError::EventOutsideRun { .. } | SimError::EventTarget { .. } => "events",
+        SimError::ControlPeriodTooLong { .. } => "control.period_s",
+        SimError::StepTooLong { .. } => "dynamics.step_s",
+        SimError::CommandKindMismatch { .. } => "dynamics.model",
+        SimError::ProcessNoise { .. } => "dynamics",
+        _ => return RunError::Simulation(e),
+    };
+    RunError::Scenario(ScenarioError::Invalid {
+        file: scenario.source.clone(),
+        key: key.into(),
+        message: e.to_string(),
+    })
 }
 
 /// The files a run writes into its output directory. A directory holding only these (or nothing) is a
@@ -171,7 +194,8 @@ pub fn run_scenario_with(
         &prepared.satellites,
         prepared.law,
         prepared.events,
-    )?;
+    )
+    .map_err(|e| setup_error(scenario, e))?;
     if let Some(flag) = &options.cancel {
         simulation.set_cancel_flag(flag.clone());
     }
