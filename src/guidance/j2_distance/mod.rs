@@ -309,6 +309,24 @@ pub fn theorem_gains(
     }
 }
 
+/// The barrier needs its target above its lower bound: r_d > r̲ (otherwise the clamp interval is empty).
+fn check_target_amplitude(d: &Derived, p: &J2DistanceParameters) -> Result<(), LawError> {
+    let target = d.target_amplitude_m;
+    if target.is_finite() && target > p.min_amplitude_m {
+        Ok(())
+    } else {
+        Err(LawError::InvalidParameters {
+            law: "j2-distance".into(),
+            message: format!(
+                "plane_theta_p_deg, plane_theta_zxy_deg and average_distance_m give a target amplitude \
+                 of {target} m, not above min_amplitude_m = {} m (allowed: a target amplitude > \
+                 min_amplitude_m)",
+                p.min_amplitude_m
+            ),
+        })
+    }
+}
+
 /// Clamped barrier s(r) \[-\] (method page §7.1): (r − r_d)/(r − r̲) + (r − r_d)/((2r_d − r̲) − r), evaluated at
 /// r clamped to [r̲ + η, 2r_d − r̲ − η], η = `clamp_fraction`·(r_d − r̲). Lengths in m.
 pub fn barrier(r_m: f64, target_m: f64, lower_m: f64, clamp_fraction: f64) -> f64 {
@@ -435,7 +453,9 @@ impl J2Distance {
         self.derived.map(|d| d.target_amplitude_m)
     }
 
-    fn derive(&mut self, swarm: &SwarmView<'_>) {
+    /// Derives the constants; refuses a target amplitude (from the plane angles and the average distance)
+    /// that is not above the barrier's lower bound, where the barrier has no admissible interval.
+    fn derive(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
         let p = &self.parameters;
         let model = AveragedJ2::new(swarm.shared.reference_model);
         let plane = SwarmPlane {
@@ -449,6 +469,7 @@ impl J2Distance {
                 .target_amplitude_m(p.average_distance_m, model.model().s_j2()),
             normalised: plane.normalised_frame(model.c_plus(), model.c_minus()),
         });
+        check_target_amplitude(self.derived.as_ref().expect("set above"), p)
     }
 
     /// The pair term u_{j←k} \[m/s²\] (Hill) of Eq. 15 or 16 for the pair parameters C_jk.
@@ -631,7 +652,7 @@ impl GuidanceLaw for J2Distance {
     }
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
-        self.derive(swarm);
+        self.derive(swarm)?;
         self.next_grouping_s = swarm.shared.time_s;
         Ok(())
     }
@@ -643,7 +664,7 @@ impl GuidanceLaw for J2Distance {
     /// Algorithm 1 and the gain design (centralised; see the module docs).
     fn centralised_update(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
         if self.derived.is_none() {
-            self.derive(swarm);
+            self.derive(swarm)?;
         }
         let d = self.derived.expect("derived above");
         let p = &self.parameters;
@@ -846,6 +867,7 @@ impl GuidanceLaw for J2Distance {
                     .target_amplitude_m(self.parameters.average_distance_m, model.model().s_j2()),
                 normalised: plane.normalised_frame(model.c_plus(), model.c_minus()),
             };
+            check_target_amplitude(d, &self.parameters)?;
         }
         Ok(())
     }

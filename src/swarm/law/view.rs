@@ -172,10 +172,11 @@ impl SatelliteView<'_> {
     }
 
     /// Visits every live, linked neighbour within sensing range, in a deterministic order.
-    /// A satellite whose own links are cut sees nobody.
+    /// A satellite whose own links are cut sees nobody; nor does anyone while the grid is empty (a
+    /// non-finite navigation position left it unbuilt; the divergence check then stops the run).
     pub fn for_each_neighbour(&self, mut visit: impl FnMut(&Neighbour)) {
         let s = &self.swarm;
-        if !s.links_up[self.id] {
+        if !s.links_up[self.id] || self.id >= s.grid.len() {
             return;
         }
         s.grid.for_each_neighbour(self.id, |nb| {
