@@ -40,10 +40,31 @@ pub enum PropagateError {
         /// The allowed range.
         allowed: &'static str,
     },
+    /// An initial orbit is not one to propagate: not finite, hyperbolic, or with its perigee below
+    /// `MIN_PERIGEE_ALTITUDE_M` (inside or grazing the atmosphere: most often kilometres given as metres).
+    #[error(
+        "orbit {index}: {reason} (allowed: a closed orbit with perigee altitude >= {} km; were \
+         kilometres given as metres?)",
+        MIN_PERIGEE_ALTITUDE_M / 1e3
+    )]
+    InvalidOrbit {
+        /// Index of the orbit among those propagated.
+        index: usize,
+        /// What is wrong, with the numbers.
+        reason: String,
+    },
     /// The integrator failed.
     #[error(transparent)]
     Integration(#[from] IntegrateError),
 }
+
+/// Lowest perigee altitude accepted \[m\]: below about 100 km the atmosphere, which is not modelled,
+/// ends an orbit within a revolution.
+pub const MIN_PERIGEE_ALTITUDE_M: f64 = 100e3;
+
+/// Most output times accepted (each a row of every orbit): beyond, a too small output step is likely a
+/// unit mistake.
+pub const MAX_OUTPUTS: f64 = 1e7;
 
 impl PropagationSettings {
     fn check(&self) -> Result<(), PropagateError> {
@@ -63,6 +84,54 @@ impl PropagationSettings {
         positive("step_s", self.step_s)?;
         positive("rtol", self.tolerances.relative)?;
         positive("atol", self.tolerances.absolute)?;
+        if self.tolerances.relative >= 1.0 {
+            return Err(PropagateError::InvalidSetting {
+                setting: "rtol",
+                value: self.tolerances.relative,
+                allowed: "(0, 1)",
+            });
+        }
+        if self.duration_s / self.output_step_s > MAX_OUTPUTS {
+            return Err(PropagateError::InvalidSetting {
+                setting: "output_step_s",
+                value: self.output_step_s,
+                allowed: "at most 1e7 output times over the duration",
+            });
+        }
+        Ok(())
+    }
+
+    /// Refuses an initial orbit that is not finite, not closed, or whose perigee is below
+    /// [`MIN_PERIGEE_ALTITUDE_M`]: the sense check for orbits a user gives (`satflock propagate` applies
+    /// it; [`propagate`] itself also integrates mathematical test orbits that graze the Earth).
+    pub fn check_orbit(&self, index: usize, state: &CartesianState) -> Result<(), PropagateError> {
+        let invalid = |reason: String| PropagateError::InvalidOrbit { index, reason };
+        let finite = state
+            .position_m
+            .iter()
+            .chain(state.velocity_mps.iter())
+            .all(|v| v.is_finite());
+        if !finite {
+            return Err(invalid("the state is not finite".into()));
+        }
+        let mu = self.earth.mu_m3_s2;
+        let r = state.position_m.norm();
+        let energy = 0.5 * state.velocity_mps.norm_squared() - mu / r;
+        if energy.is_nan() || energy >= 0.0 {
+            return Err(invalid(format!(
+                "specific energy {energy:.6e} J/kg: not a closed orbit"
+            )));
+        }
+        let a = -mu / (2.0 * energy);
+        let h = state.position_m.cross(&state.velocity_mps);
+        let e = (1.0 - h.norm_squared() / (mu * a)).max(0.0).sqrt();
+        let perigee_altitude_m = a * (1.0 - e) - self.earth.equatorial_radius_m;
+        if perigee_altitude_m < MIN_PERIGEE_ALTITUDE_M {
+            return Err(invalid(format!(
+                "perigee altitude {:.3} km (semi-major axis {a:.3} m, eccentricity {e:.6})",
+                perigee_altitude_m / 1e3
+            )));
+        }
         Ok(())
     }
 }

@@ -511,3 +511,66 @@ fn regress_runaway_step_and_output_size_are_refused_unless_allowed() {
     );
     load_in(&allowed, Path::new(".")).expect("allow_large accepts the large output");
 }
+
+/// `propagate` (library and `satflock propagate`): an orbit with its perigee inside the atmosphere or the
+/// Earth (e.g. elements in kilometres given as metres), an `rtol` of 10 and an output step that would
+/// produce 10^10 rows are refused with the numbers, before any work.
+#[test]
+fn regress_propagate_refuses_nonsense_orbits_and_settings() {
+    use satflock::integrate::{IntegratorMethod, Tolerances};
+    use satflock::orbit::{CartesianState, EarthModel, GravityModel};
+    use satflock::propagate::{propagate, PropagateError, PropagationSettings};
+    let earth = EarthModel::WGS84_EGM96;
+    let settings = PropagationSettings {
+        earth,
+        gravity: GravityModel::J2,
+        integrator: IntegratorMethod::Rk4,
+        step_s: 10.0,
+        tolerances: Tolerances {
+            relative: 1e-10,
+            absolute: 1e-6,
+        },
+        duration_s: 100.0,
+        output_step_s: 10.0,
+    };
+    let circular = |r_m: f64| {
+        CartesianState::new(
+            nalgebra::Vector3::new(r_m, 0.0, 0.0),
+            nalgebra::Vector3::new(0.0, (earth.mu_m3_s2 / r_m).sqrt(), 0.0),
+        )
+    };
+    // 6978.137 "m" (km meant): far inside the Earth (the check `satflock propagate` applies).
+    match settings.check_orbit(0, &circular(6978.137)) {
+        Err(e @ PropagateError::InvalidOrbit { index: 0, .. }) => {
+            assert!(e.to_string().contains("perigee altitude"), "{e}")
+        }
+        other => panic!("accepted: {other:?}"),
+    }
+    // 50 km altitude: below the 100 km floor.
+    assert!(matches!(
+        settings.check_orbit(0, &circular(earth.equatorial_radius_m + 50e3)),
+        Err(PropagateError::InvalidOrbit { .. })
+    ));
+    let good = circular(earth.equatorial_radius_m + 600e3);
+    settings.check_orbit(0, &good).unwrap();
+    let mut bad_rtol = settings;
+    bad_rtol.tolerances.relative = 10.0;
+    assert!(matches!(
+        propagate(&[good], &bad_rtol, |_, _| {}),
+        Err(PropagateError::InvalidSetting {
+            setting: "rtol",
+            ..
+        })
+    ));
+    let mut tiny_output = settings;
+    tiny_output.duration_s = 86_400.0;
+    tiny_output.output_step_s = 1e-6;
+    assert!(matches!(
+        propagate(&[good], &tiny_output, |_, _| {}),
+        Err(PropagateError::InvalidSetting {
+            setting: "output_step_s",
+            ..
+        })
+    ));
+    propagate(&[good], &settings, |_, _| {}).expect("a 600 km circular orbit propagates");
+}

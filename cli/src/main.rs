@@ -571,6 +571,16 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
     };
     let mut orbits = vec![satellite];
     orbits.extend(reference);
+    for (index, orbit) in orbits.iter().enumerate() {
+        let option = if index == 0 {
+            "--elements/--state"
+        } else {
+            "--reference-elements/--reference-state"
+        };
+        settings
+            .check_orbit(index, orbit)
+            .map_err(|e| usage(format!("{option}: {e}")))?;
+    }
     let mut text = String::from("t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps\n");
     propagate(&orbits, &settings, |t, states| {
         let (p, v) = match args.frame {
@@ -590,7 +600,8 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
         ));
     })
     .map_err(|e| match e {
-        satflock::propagate::PropagateError::InvalidSetting { .. } => usage(e.to_string()),
+        satflock::propagate::PropagateError::InvalidSetting { .. }
+        | satflock::propagate::PropagateError::InvalidOrbit { .. } => usage(e.to_string()),
         other => anyhow::Error::from(other),
     })?;
     // Write to a temporary file beside the target, then rename: no partial file on failure.
