@@ -17,6 +17,7 @@
 //! | support | [`grid`] | the cell-list neighbour grid (radius and nearest queries) |
 //! | support | [`environment`] | threats, obstacles and the continuous closest-approach geometry |
 //! | support | [`metrics`] | five-element cluster characterisation, separation and collision counts |
+//! | support | [`time`] | the scenario epoch, UTC output times and time-scale offsets (hifitime) |
 //! | support | [`pool`] | a bounded pool of whole runs (each on its own single-thread rayon pool), results in job order |
 //! | engine | [`swarm`] | the law interface, the simulation (sensing, propagation, scheduler, events, monitors, snapshots) |
 //! | laws | [`guidance`] | the guidance laws and their registry |
@@ -42,6 +43,7 @@ pub mod relative;
 pub mod run;
 pub mod scenario;
 pub mod swarm;
+pub mod time;
 
 /// What most users need, in one import: `use satflock::prelude::*;`.
 pub mod prelude {

@@ -9,7 +9,8 @@ use std::time::Instant;
 
 use thiserror::Error;
 
-use crate::output::summary::{EnvironmentSummary, FinalState};
+use crate::output::frames;
+use crate::output::summary::{EnvironmentSummary, FinalState, Frames};
 use crate::output::{CsvColumns, CsvRecorder, DeltaVSummary, RunStatus, RunSummary};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{SimError, Simulation};
@@ -207,7 +208,8 @@ pub fn run_scenario_with(
         law_metrics: simulation.law_metric_names(),
         law_outputs: simulation.law_output_names(),
     };
-    let mut recorder = CsvRecorder::create(out_dir, prepared.write_trajectory, columns)
+    let epoch = prepared.epoch;
+    let mut recorder = CsvRecorder::create(out_dir, prepared.write_trajectory, columns, epoch)
         .map_err(|e| output_error(out_dir, e))?;
     let started = Instant::now();
     let outcome = simulation.run(&mut recorder, progress);
@@ -229,6 +231,11 @@ pub fn run_scenario_with(
         scenario: prepared.name,
         source: scenario.source.clone(),
         seed,
+        epoch_utc: crate::time::utc_iso(epoch),
+        time_system: frames::TIME_SYSTEM.into(),
+        tai_minus_utc_s: crate::time::tai_minus_utc_s(epoch),
+        tt_minus_utc_s: crate::time::tt_minus_utc_s(epoch),
+        frames: Frames::default(),
         status: match &outcome {
             Ok(_) => RunStatus::Completed,
             Err(SimError::Interrupted { .. }) => RunStatus::Interrupted,

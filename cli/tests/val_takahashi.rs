@@ -90,34 +90,16 @@ fn val_law_metrics_time_series_match_the_summary_at_the_end() {
     let s = scenario("ts-plane-2", None, Some(3600.0)).unwrap();
     let dir = std::env::temp_dir().join(format!("satflock-ts-metrics-{}", std::process::id()));
     satflock::run::run_scenario(&s, &dir, &mut |_| {}).unwrap();
-    let csv = std::fs::read_to_string(dir.join("metrics.csv")).unwrap();
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let run = satflock::output::RunData::read(&dir).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let rows: Vec<Vec<f64>> = lines
-        // A value that does not exist is an empty cell (read back as NaN here).
-        .map(|l| {
-            l.split(',')
-                .map(|v| {
-                    if v.is_empty() {
-                        f64::NAN
-                    } else {
-                        v.parse().unwrap()
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    assert_eq!(rows.len(), 3, "t = 0, 0.5 h, 1 h");
-    let last = rows.last().unwrap();
+    let summary = &run.summary;
+    assert_eq!(run.metrics.rows(), 3, "t = 0, 0.5 h, 1 h");
     let column = |name: &str| {
-        let k = header
-            .iter()
-            .position(|h| *h == name)
-            .unwrap_or_else(|| panic!("no column {name} in {header:?}"));
-        last[k]
+        *run.metrics
+            .column(name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", run.metrics.names()))
+            .last()
+            .unwrap()
     };
     let law = &summary["law"];
     let same = |csv: f64, json: &serde_json::Value, what: &str| {
@@ -178,9 +160,9 @@ fn val_law_metrics_time_series_match_the_summary_at_the_end() {
     );
     // A time series, not a constant: the first grouping happens after the t = 0 recording (no edges
     // yet), and max|C1| moves during the first hour.
-    let k_edges = header.iter().position(|h| *h == "ts_edges").unwrap();
-    assert_eq!(rows[0][k_edges], 0.0);
-    assert!(rows[1][k_edges] > 0.0);
-    let k_c1 = header.iter().position(|h| *h == "ts_max_abs_c1_m").unwrap();
-    assert!(rows[0][k_c1] != rows[2][k_c1]);
+    let edges = run.metrics.column("ts_edges").unwrap();
+    assert_eq!(edges[0], 0.0);
+    assert!(edges[1] > 0.0);
+    let c1 = run.metrics.column("ts_max_abs_c1_m").unwrap();
+    assert!(c1[0] != c1[2]);
 }

@@ -14,10 +14,12 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::swarm::{Recorder, Snapshot};
+use crate::time::{self, Epoch};
 
-/// Columns of `metrics.csv`.
+/// Columns of `metrics.csv` (`time_utc`: the instant, ISO 8601 UTC, see [`crate::time`]).
 pub const METRICS_HEADER: &[&str] = &[
     "t_s",
+    "time_utc",
     "n",
     "r_o_x_m",
     "r_o_y_m",
@@ -38,9 +40,11 @@ pub const METRICS_HEADER: &[&str] = &[
     "delta_v_z_mean_mps",
 ];
 
-/// Columns of `trajectory.csv`: Hill LVLH relative to the LVLH origin, then ECI, then the delta-v ledger.
+/// Columns of `trajectory.csv`: elapsed time and UTC instant, Hill LVLH relative to the LVLH origin, then
+/// the inertial frame ([`crate::output::frames::INERTIAL_FRAME`]), then the delta-v ledger.
 pub const TRAJECTORY_HEADER: &[&str] = &[
     "t_s",
+    "time_utc",
     "id",
     "x_lvlh_m",
     "y_lvlh_m",
@@ -48,12 +52,12 @@ pub const TRAJECTORY_HEADER: &[&str] = &[
     "vx_lvlh_mps",
     "vy_lvlh_mps",
     "vz_lvlh_mps",
-    "x_eci_m",
-    "y_eci_m",
-    "z_eci_m",
-    "vx_eci_mps",
-    "vy_eci_mps",
-    "vz_eci_mps",
+    "x_eme2000_m",
+    "y_eme2000_m",
+    "z_eme2000_m",
+    "vx_eme2000_mps",
+    "vy_eme2000_mps",
+    "vz_eme2000_mps",
     "delta_v_mps",
 ];
 
@@ -83,17 +87,19 @@ pub struct CsvRecorder {
     metrics: File,
     columns: CsvColumns,
     trajectory: Option<File>,
+    epoch: Epoch,
     line: String,
     block: String,
 }
 
 impl CsvRecorder {
     /// Creates `dir/metrics.csv` and, if asked, `dir/trajectory.csv`, with the variable `columns`, and
-    /// writes their headers.
+    /// writes their headers; `epoch` is the instant of t = 0 (for the `time_utc` column).
     pub fn create(
         dir: &Path,
         write_trajectory: bool,
         columns: CsvColumns,
+        epoch: Epoch,
     ) -> std::io::Result<Self> {
         let mut metrics = File::create(dir.join("metrics.csv"))?;
         let mut header: Vec<&str> = METRICS_HEADER.to_vec();
@@ -118,6 +124,7 @@ impl CsvRecorder {
             metrics,
             columns,
             trajectory,
+            epoch,
             line: String::with_capacity(512),
             block: String::new(),
         })
@@ -153,7 +160,8 @@ impl Recorder for CsvRecorder {
         use std::fmt::Write as _;
         let line = &mut self.line;
         line.clear();
-        let _ = write!(line, "{}", s.time_s);
+        let utc = time::utc_iso(time::at(self.epoch, s.time_s));
+        let _ = write!(line, "{},{utc}", s.time_s);
         let live: Vec<usize> = (0..s.active.len()).filter(|&i| s.active[i]).collect();
         let _ = write!(line, ",{}", live.len());
         match &s.five_elements {
@@ -203,7 +211,7 @@ impl Recorder for CsvRecorder {
             let line = &mut self.block;
             line.clear();
             for &i in &live {
-                let _ = write!(line, "{},{}", s.time_s, i);
+                let _ = write!(line, "{},{utc},{}", s.time_s, i);
                 let r = &s.relative_states[i];
                 let e = &s.inertial_states[i];
                 for v in r

@@ -33,6 +33,27 @@ pub struct DeltaVSummary {
     pub mean_per_axis_hill: [f64; 3],
 }
 
+/// The frames of the outputs, by name and in one sentence each (the `frames` object).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Frames {
+    /// The inertial frame's CCSDS name (`EME2000`).
+    pub inertial: String,
+    /// What the inertial frame is and what its approximation costs.
+    pub inertial_description: String,
+    /// What the LVLH columns are.
+    pub lvlh: String,
+}
+
+impl Default for Frames {
+    fn default() -> Self {
+        Self {
+            inertial: super::frames::INERTIAL_FRAME.into(),
+            inertial_description: super::frames::INERTIAL_FRAME_DESCRIPTION.into(),
+            lvlh: super::frames::LVLH_FRAME_DESCRIPTION.into(),
+        }
+    }
+}
+
 /// Final five elements (the `final` object).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FinalState {
@@ -49,6 +70,17 @@ pub struct RunSummary {
     pub source: String,
     /// Seed of every random draw.
     pub seed: u64,
+    /// The instant of t = 0, ISO 8601 in [`Self::time_system`]; every output time is this plus `t_s`
+    /// elapsed SI seconds.
+    pub epoch_utc: String,
+    /// The time system of absolute times in the text outputs (`UTC`).
+    pub time_system: String,
+    /// TAI − UTC at the epoch \[s\] (leap seconds, from hifitime).
+    pub tai_minus_utc_s: f64,
+    /// TT − UTC at the epoch \[s\].
+    pub tt_minus_utc_s: f64,
+    /// What the frames of the outputs are.
+    pub frames: Frames,
     /// How the run ended.
     pub status: RunStatus,
     /// The error that stopped the run, if any.

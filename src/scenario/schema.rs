@@ -20,6 +20,10 @@ pub struct ScenarioFile {
     pub description: String,
     /// Seed of every random draw.
     pub seed: u64,
+    /// The instant of t = 0, ISO 8601 UTC (`"2026-03-20T12:00:00Z"`); absent:
+    /// [`crate::time::DEFAULT_EPOCH_UTC`].
+    #[serde(default)]
+    pub epoch_utc: Option<String>,
     /// Length of the run \[s\].
     pub duration_s: f64,
     /// Recording cadence \[s\].

@@ -81,6 +81,8 @@ pub struct Prepared {
     pub write_trajectory: bool,
     /// Extra metadata for the summary.
     pub tags: std::collections::BTreeMap<String, String>,
+    /// The instant of t = 0.
+    pub epoch: crate::time::Epoch,
 }
 
 struct Checker<'a> {
@@ -478,7 +480,14 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         .fold(f64::INFINITY, f64::min);
     let law = build_law(&c, "law", &f.law, &config, min_mass_kg)?;
     let events = events(&c, scenario, count, &config, min_mass_kg)?;
+    let epoch = crate::time::parse_epoch_utc(
+        f.epoch_utc
+            .as_deref()
+            .unwrap_or(crate::time::DEFAULT_EPOCH_UTC),
+    )
+    .map_err(|e| c.invalid("epoch_utc", e))?;
     Ok(Prepared {
+        epoch,
         name: f.name.clone(),
         config,
         satellites,
