@@ -11,7 +11,7 @@ use thiserror::Error;
 
 use crate::output::frames;
 use crate::output::summary::{EnvironmentSummary, FinalState, Frames};
-use crate::output::{CsvColumns, CsvRecorder, DeltaVSummary, RunStatus, RunSummary};
+use crate::output::{CsvColumns, CsvRecorder, DeltaVSummary, RunStatus, RunSummary, Scene};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{SimError, Simulation};
 
@@ -81,7 +81,13 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
 
 /// The files a run writes into its output directory. A directory holding only these (or nothing) is a
 /// previous run's, which [`run_scenario`] clears before it starts.
-pub const RUN_FILES: &[&str] = &["summary.json", "metrics.csv", "trajectory.csv"];
+pub const RUN_FILES: &[&str] = &[
+    "summary.json",
+    "metrics.csv",
+    "trajectory.csv",
+    "scene.json",
+    "scenario.toml",
+];
 
 /// How a run is driven beyond its scenario.
 #[derive(Clone, Debug, Default)]
@@ -209,6 +215,15 @@ pub fn run_scenario_with(
         law_outputs: simulation.law_output_names(),
     };
     let epoch = prepared.epoch;
+    Scene::from_config(simulation.config())
+        .write(out_dir)
+        .map_err(|e| output_error(out_dir, e))?;
+    let scenario_path = out_dir.join("scenario.toml");
+    let scenario_text = toml::to_string(&scenario.file).map_err(|e| RunError::Output {
+        path: scenario_path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    std::fs::write(&scenario_path, scenario_text).map_err(|e| output_error(&scenario_path, e))?;
     let mut recorder = CsvRecorder::create(out_dir, prepared.write_trajectory, columns, epoch)
         .map_err(|e| output_error(out_dir, e))?;
     let started = Instant::now();

@@ -44,6 +44,19 @@ fn regress_every_builtin_scenario_is_valid() {
     }
 }
 
+/// A run copies its scenario into `scenario.toml`: serialising any built-in and parsing it back gives
+/// the same scenario, so the copy reruns the same case.
+#[test]
+fn val_every_builtin_round_trips_through_its_toml_copy() {
+    for b in builtin::BUILTINS {
+        let original = Scenario::load(b.name).unwrap().file;
+        let text = toml::to_string(&original).unwrap();
+        let back = Scenario::from_toml(&text, "copy", Path::new("."))
+            .unwrap_or_else(|e| panic!("{}: {e}\n{text}", b.name));
+        assert_eq!(back.file, original, "{}", b.name);
+    }
+}
+
 #[test]
 fn val_valid_base_case_loads() {
     let p = load(VALID).unwrap();

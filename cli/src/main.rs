@@ -47,7 +47,7 @@ enum Command {
         /// Scenario file, or the name of a built-in scenario (see `satflock scenarios`).
         scenario: String,
         /// Output directory: a new path, an empty directory, or a previous satflock run's directory
-        /// (holding only summary.json, metrics.csv, trajectory.csv), whose files are removed before the
+        /// (holding only the files a run writes), whose files are removed before the
         /// run starts. A directory holding anything else is refused.
         #[arg(long)]
         out: PathBuf,

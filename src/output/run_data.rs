@@ -139,6 +139,8 @@ pub struct RunData {
     pub metrics: Table,
     /// `trajectory.csv`, when the run wrote one: one row per live satellite per recording time.
     pub trajectory: Option<Table>,
+    /// `scene.json`: threats, obstacles, target formation.
+    pub scene: super::Scene,
 }
 
 impl RunData {
@@ -172,7 +174,9 @@ impl RunData {
         } else {
             None
         };
+        let scene = super::Scene::read(dir)?;
         Ok(Self {
+            scene,
             dir: dir.to_path_buf(),
             summary,
             epoch,

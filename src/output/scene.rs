@@ -1,0 +1,112 @@
+//! `scene.json`: the geometry a run's pictures need beside the trajectories — threats (straight lines
+//! in the Hill frame), obstacles (spheres) and the law's target formation — resolved from the scenario
+//! and written once when the run starts, so plots, the report and exports work from the run directory
+//! alone.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::run_data::RunDataError;
+use crate::swarm::SimulationConfig;
+
+/// A threat's straight line in the Hill frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneThreat {
+    /// Name.
+    pub name: String,
+    /// Danger-sphere radius \[m\].
+    pub danger_radius_m: f64,
+    /// Position at t = 0, Hill LVLH \[m\].
+    pub position_at_t0_lvlh_m: [f64; 3],
+    /// Constant velocity, Hill LVLH \[m/s\].
+    pub velocity_lvlh_mps: [f64; 3],
+}
+
+impl SceneThreat {
+    /// Position at `t_s`, Hill LVLH \[m\].
+    pub fn position_lvlh_m(&self, t_s: f64) -> [f64; 3] {
+        std::array::from_fn(|k| self.position_at_t0_lvlh_m[k] + self.velocity_lvlh_mps[k] * t_s)
+    }
+}
+
+/// A static spherical obstacle in the Hill frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneObstacle {
+    /// Name.
+    pub name: String,
+    /// Centre, Hill LVLH \[m\].
+    pub center_lvlh_m: [f64; 3],
+    /// Radius \[m\].
+    pub radius_m: f64,
+}
+
+/// The content of `scene.json`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    /// Threats.
+    pub threats: Vec<SceneThreat>,
+    /// Obstacles.
+    pub obstacles: Vec<SceneObstacle>,
+    /// The formation the law at t = 0 steers to, Hill LVLH relative to the LVLH origin \[m\], one point
+    /// per slot (absent when the law has none).
+    pub target_formation_lvlh_m: Option<Vec<[f64; 3]>>,
+}
+
+impl Scene {
+    /// The threats and obstacles of a simulation's configuration (no target formation).
+    pub fn from_config(config: &SimulationConfig) -> Self {
+        Self {
+            threats: config
+                .threats
+                .iter()
+                .map(|t| {
+                    let p = t.position_hill_m(0.0);
+                    let v = t.velocity_hill_mps();
+                    SceneThreat {
+                        name: t.name().to_string(),
+                        danger_radius_m: t.danger_radius_m(),
+                        position_at_t0_lvlh_m: [p.x, p.y, p.z],
+                        velocity_lvlh_mps: [v.x, v.y, v.z],
+                    }
+                })
+                .collect(),
+            obstacles: config
+                .obstacles
+                .iter()
+                .map(|o| {
+                    let c = o.center_hill_m();
+                    SceneObstacle {
+                        name: o.name().to_string(),
+                        center_lvlh_m: [c.x, c.y, c.z],
+                        radius_m: o.radius_m(),
+                    }
+                })
+                .collect(),
+            target_formation_lvlh_m: None,
+        }
+    }
+
+    /// Writes `dir/scene.json`.
+    pub fn write(&self, dir: &Path) -> std::io::Result<()> {
+        let text = serde_json::to_string_pretty(self).expect("the scene serialises");
+        std::fs::write(dir.join("scene.json"), text + "\n")
+    }
+
+    /// Reads `dir/scene.json`; a run directory without one (written by an older satflock) has an empty
+    /// scene.
+    pub fn read(dir: &Path) -> Result<Self, RunDataError> {
+        let path = dir.join("scene.json");
+        match std::fs::read_to_string(&path) {
+            Ok(text) => serde_json::from_str(&text).map_err(|e| RunDataError {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            }),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Self::default()),
+            Err(e) => Err(RunDataError {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            }),
+        }
+    }
+}
