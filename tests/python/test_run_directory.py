@@ -1,0 +1,22 @@
+"""A run directory read by Python's own csv and json modules: the time columns agree with the epoch."""
+
+import csv
+import datetime
+import json
+
+from conftest import run_satflock
+
+
+def test_time_utc_is_epoch_plus_elapsed_seconds(satflock_bin, tmp_path):
+    out = tmp_path / "run"
+    run_satflock(satflock_bin, "run", "free-drift", "--out", str(out), "--quiet")
+    summary = json.loads((out / "summary.json").read_text())
+    epoch = datetime.datetime.fromisoformat(summary["epoch_utc"])
+    assert summary["time_system"] == "UTC"
+    assert summary["frames"]["inertial"] == "EME2000"
+    with open(out / "metrics.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) > 1
+    for row in rows:
+        t = datetime.datetime.fromisoformat(row["time_utc"])
+        assert abs((t - epoch).total_seconds() - float(row["t_s"])) < 1e-6
