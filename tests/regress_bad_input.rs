@@ -574,3 +574,88 @@ fn regress_propagate_refuses_nonsense_orbits_and_settings() {
     ));
     propagate(&[good], &settings, |_, _| {}).expect("a 600 km circular orbit propagates");
 }
+
+/// A misspelled law key is pointed at by its own line (the parser alone names the `[law]` header).
+#[test]
+fn regress_misspelled_law_key_points_at_its_line() {
+    let text = VALID.replace(
+        "damping_per_s = 2e-2",
+        "damping_per_s = 2e-2\ndampnig_per_s = 1.0",
+    );
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("dampnig_per_s"))
+        .unwrap()
+        + 1;
+    let Err(ScenarioError::Parse { file, message }) =
+        Scenario::from_toml(&text, "case.toml", Path::new("."))
+    else {
+        panic!("expected a parse error");
+    };
+    assert_eq!(file, "case.toml");
+    assert!(message.contains(&format!("line {line},")), "{message}");
+    assert!(
+        message.contains("dampnig_per_s") && message.contains("(in `law`)"),
+        "{message}"
+    );
+    assert!(
+        message.contains("stiffness_per_s2"),
+        "lists the allowed keys: {message}"
+    );
+}
+
+/// A `switch-law` event with a missing key names the event by its index; an unknown key in the event's
+/// law names the sub-table and its line.
+#[test]
+fn regress_switch_law_errors_name_the_event() {
+    let event = |body: &str| {
+        format!(
+            "{VALID}\n[[events]]\ntime_s = 10.0\naction = \"cut-links\"\nsatellites = \"all\"\n\n[[events]]\ntime_s = 20.0\naction = \"switch-law\"\n{body}"
+        )
+    };
+    let parse = |text: &str| match Scenario::from_toml(text, "case.toml", Path::new(".")) {
+        Err(ScenarioError::Parse { message, .. }) => message,
+        other => panic!("expected a parse error, got {other:?}"),
+    };
+    let missing = parse(&event(""));
+    assert!(
+        missing.contains("missing field `law`") && missing.contains("(in `events[1]`)"),
+        "{missing}"
+    );
+    let text = event("[events.law]\nname = \"hold\"\nstiffnes_per_s2 = 1.0\n");
+    let typo = parse(&text);
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("stiffnes_per_s2"))
+        .unwrap()
+        + 1;
+    assert!(typo.contains(&format!("line {line},")), "{typo}");
+    assert!(typo.contains("(in `events[1].law`)"), "{typo}");
+}
+
+/// A law set by an event is checked against the swarm (here: the bifurcating avoidance radius against
+/// the sensing range) when the scenario loads: exit 2 naming the event's key, not a failure when the
+/// event fires.
+#[test]
+fn regress_event_law_beyond_the_sensing_range_is_refused_at_load() {
+    let base = satflock::scenario::builtin::find("gao-circle")
+        .unwrap()
+        .toml;
+    let text = format!(
+        "{base}\n[[events]]\ntime_s = 10.0\naction = \"set-law-parameters\"\nparameters = {{ avoidance_radius_m = 1000.0 }}\n"
+    );
+    match load_in(&text, Path::new(".")) {
+        Err(ScenarioError::Invalid { file, key, message }) => {
+            assert_eq!(
+                (file.as_str(), key.as_str()),
+                ("case.toml", "events[0].parameters")
+            );
+            assert!(
+                message.contains("exceeds the sensing range 500 m"),
+                "{message}"
+            );
+            assert!(message.contains("allowed"), "{message}");
+        }
+        other => panic!("expected a refusal, got {:?}", other.err()),
+    }
+}

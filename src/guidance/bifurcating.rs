@@ -37,7 +37,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::orbit::{gao_to_hill, hill_to_gao};
 use crate::relative::Hcw;
-use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
+use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView};
 
 /// Regularisation radius ε of the shape coordinate at the cone point ρ = 0 (resp. d = 0) \[m\]
 /// (method page §3.4: 10⁻⁶ km).
@@ -401,18 +401,16 @@ impl Bifurcating {
         &self.parameters
     }
 
-    fn check_range(&self, parameters: &BifurcatingParameters) -> Result<(), LawError> {
-        match self.sensing_range_m {
-            Some(range) if parameters.avoidance_radius_m > range => {
-                Err(LawError::InvalidParameters {
-                    law: "bifurcating".into(),
-                    message: format!(
-                        "avoidance_radius_m = {} m exceeds the sensing range {range} m: neighbours \
+    fn check_range(parameters: &BifurcatingParameters, range: f64) -> Result<(), LawError> {
+        match range {
+            range if parameters.avoidance_radius_m > range => Err(LawError::InvalidParameters {
+                law: "bifurcating".into(),
+                message: format!(
+                    "avoidance_radius_m = {} m exceeds the sensing range {range} m: neighbours \
                          between the two would be missed (allowed: <= sensing.range_m)",
-                        parameters.avoidance_radius_m
-                    ),
-                })
-            }
+                    parameters.avoidance_radius_m
+                ),
+            }),
             _ => Ok(()),
         }
     }
@@ -455,7 +453,11 @@ impl GuidanceLaw for Bifurcating {
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
         self.sensing_range_m = Some(swarm.shared.sensing_range_m);
-        self.check_range(&self.parameters)
+        self.check_swarm(&SwarmFacts::of(swarm))
+    }
+
+    fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
+        Self::check_range(&self.parameters, swarm.sensing_range_m)
     }
 
     fn command(
@@ -479,7 +481,9 @@ impl GuidanceLaw for Bifurcating {
 
     fn set_parameters(&mut self, parameters: &BifurcatingParameters) -> Result<(), LawError> {
         parameters.check()?;
-        self.check_range(parameters)?;
+        if let Some(range) = self.sensing_range_m {
+            Self::check_range(parameters, range)?;
+        }
         self.parameters = parameters.clone();
         // A new shape: time-to-shape restarts at the next recording.
         self.shape_commanded_at_s = None;

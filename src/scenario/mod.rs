@@ -55,6 +55,96 @@ pub enum ScenarioError {
     },
 }
 
+/// The parser's message, made precise where the parser only knows the table: a law or event table is
+/// read as a whole (its `name` or `action` key selects the type), so the parser's span covers the table,
+/// not the offending key. An unknown key is then pointed at by its own line, and the table is named by
+/// its dotted path (`law`, `events[2]`, `events[2].law`).
+fn parse_error_message(text: &str, e: &toml::de::Error) -> String {
+    let plain = || e.to_string().trim_end().to_string();
+    let Some(span) = e.span() else {
+        return plain();
+    };
+    let lines: Vec<&str> = text.lines().collect();
+    let header_line = text[..span.start.min(text.len())].matches('\n').count();
+    let Some(header) = lines.get(header_line).map(|l| l.trim()) else {
+        return plain();
+    };
+    if !header.starts_with('[') {
+        return plain();
+    }
+    let table = table_path(&lines, header_line);
+    let message = e.message();
+    let unknown = message
+        .strip_prefix("unknown field `")
+        .and_then(|rest| rest.split('`').next());
+    if let Some(key) = unknown {
+        // The key's own line: the first `key =` after the header, before a header of another table.
+        let found = lines
+            .iter()
+            .enumerate()
+            .skip(header_line + 1)
+            .take_while(|(k, l)| {
+                let l = l.trim();
+                !(l.starts_with('[') && !table_path(&lines, *k).starts_with(&table))
+            })
+            .find(|(_, l)| {
+                l.trim()
+                    .strip_prefix(key)
+                    .is_some_and(|rest| rest.trim_start().starts_with('='))
+            });
+        if let Some((k, line)) = found {
+            // The table the key sits in (a sub-table such as `[events.law]` may hold it).
+            let own_header = (header_line..=k)
+                .rev()
+                .find(|&h| lines[h].trim().starts_with('['))
+                .unwrap_or(header_line);
+            let table = table_path(&lines, own_header);
+            return format!(
+                "TOML parse error at line {}, column 1\n   |\n{:>2} | {line}\n   |\n{message} (in `{table}`)",
+                k + 1,
+                k + 1
+            );
+        }
+    }
+    format!("{} (in `{table}`)", plain())
+}
+
+/// The dotted path of the table whose header is on line `at` (0-based): `[a.b]` is `a.b`; the k-th
+/// `[[events]]` (0-based) is `events[k]`, and `[events.law]` below it is `events[k].law`.
+fn table_path(lines: &[&str], at: usize) -> String {
+    let header = lines[at].trim();
+    let name = |h: &str| {
+        h.trim_start_matches('[')
+            .split(']')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_string()
+    };
+    let own = name(header);
+    // The innermost array of tables this header belongs to, and its index.
+    let array_index = |array: &str| {
+        lines[..=at]
+            .iter()
+            .filter(|l| l.trim().starts_with("[[") && name(l.trim()) == array)
+            .count()
+            .checked_sub(1)
+    };
+    if header.starts_with("[[") {
+        return match array_index(&own) {
+            Some(k) => format!("{own}[{k}]"),
+            None => own,
+        };
+    }
+    // A sub-table of the latest array element (`[events.law]` after `[[events]]`).
+    if let Some((array, rest)) = own.split_once('.') {
+        if let Some(k) = array_index(array) {
+            return format!("{array}[{k}].{rest}");
+        }
+    }
+    own
+}
+
 /// A scenario loaded from somewhere, with the name of where (for error messages and relative paths).
 #[derive(Clone, Debug)]
 pub struct Scenario {
@@ -71,7 +161,7 @@ impl Scenario {
     pub fn from_toml(text: &str, source: &str, base_dir: &Path) -> Result<Self, ScenarioError> {
         let file: ScenarioFile = toml::from_str(text).map_err(|e| ScenarioError::Parse {
             file: source.to_string(),
-            message: e.to_string().trim_end().to_string(),
+            message: parse_error_message(text, &e),
         })?;
         Ok(Self {
             file,

@@ -21,7 +21,7 @@ use crate::scenario::schema::{
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
     check_law_fits, Actuator, ControlTiming, DynamicsModel, Event, EventAction, Law, Origin,
-    SatelliteInit, Selection, Sensing, SimError, SimulationConfig, ThrustAxis,
+    SatelliteInit, Selection, Sensing, SimError, SimulationConfig, SwarmFacts, ThrustAxis,
 };
 
 /// Largest run (satellites × base steps) accepted without `[output] allow_large = true`: about an hour of
@@ -478,7 +478,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         .iter()
         .map(|s| s.mass_kg)
         .fold(f64::INFINITY, f64::min);
-    let law = build_law(&c, "law", &f.law, &config, min_mass_kg)?;
+    let law = build_law(&c, "law", &f.law, &config, count, min_mass_kg)?;
     let events = events(&c, scenario, count, &config, min_mass_kg)?;
     let epoch = crate::time::parse_epoch_utc(
         f.epoch_utc
@@ -505,6 +505,7 @@ fn build_law(
     key: &str,
     law: &LawConfig,
     config: &SimulationConfig,
+    count: usize,
     min_mass_kg: f64,
 ) -> Result<Law, ScenarioError> {
     let built = law.build().map_err(|e| c.invalid(key, e.to_string()))?;
@@ -517,7 +518,23 @@ fn build_law(
         };
         c.invalid(key, format!("{e}{hint}"))
     })?;
+    built
+        .check_swarm(&swarm_facts(config, count))
+        .map_err(|e| c.invalid(key, e.to_string()))?;
     Ok(built)
+}
+
+/// What a law may check about the swarm, from the scenario (see [`SwarmFacts`]).
+fn swarm_facts(config: &SimulationConfig, count: usize) -> SwarmFacts {
+    SwarmFacts {
+        sensing_range_m: config.sensing.range_m,
+        count,
+        threat_velocities_hill_mps: config
+            .threats
+            .iter()
+            .map(|t| t.velocity_hill_mps())
+            .collect(),
+    }
 }
 
 /// `current` with the keys of a `set-law-parameters` table replaced, re-validated by deserialisation
@@ -1177,12 +1194,12 @@ fn events(
                         format!("law `{}`: {err}", current.name()),
                     )
                 })?;
-                build_law(c, &key("parameters"), &merged, config, min_mass_kg)?;
+                build_law(c, &key("parameters"), &merged, config, count, min_mass_kg)?;
                 current = merged.clone();
                 EventAction::SetLawParameters(merged.into_parameters())
             }
             ActionSection::SwitchLaw { law } => {
-                let built = build_law(c, &key("law"), law, config, min_mass_kg)?;
+                let built = build_law(c, &key("law"), law, config, count, min_mass_kg)?;
                 current = law.clone();
                 EventAction::SwitchLaw(built)
             }

@@ -18,7 +18,7 @@ pub use dynamics::DynamicsModel;
 pub use events::{Event, EventAction, Selection, ThrustAxis};
 pub use law::{
     Broadcast, CommandKind, EnvironmentView, GuidanceLaw, Law, LawContext, LawError, LawParameters,
-    Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo, SwarmView,
+    Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo, SwarmFacts, SwarmView,
 };
 pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{

@@ -51,7 +51,7 @@ use serde_json::{json, Value};
 
 use crate::relative::Hcw;
 use crate::swarm::{
-    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView,
+    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
 };
 
 pub use desired::{DesiredVelocity, FieldSet, Tables, ThreatUse};
@@ -86,17 +86,6 @@ fn invalid(message: String) -> LawError {
     }
 }
 
-/// What the law learns from the swarm when it starts (to check parameter updates against).
-#[derive(Clone, Debug, PartialEq)]
-struct Started {
-    /// Sensing range of the swarm \[m\].
-    sensing_range_m: f64,
-    /// Number of satellites.
-    count: usize,
-    /// Velocity of every scenario threat, Hill \[m/s\].
-    threat_velocities_hill_mps: Vec<Vector3<f64>>,
-}
-
 /// The `equilibrium-shaping` law.
 #[derive(Clone, Debug)]
 pub struct EquilibriumShaping {
@@ -107,7 +96,7 @@ pub struct EquilibriumShaping {
     /// Largest |λ| of the stacked Jacobian at the nodes over the strategy's fields \[1/s\].
     field_rate_per_s: f64,
     /// What the law learnt from the swarm when it started.
-    started: Option<Started>,
+    started: Option<SwarmFacts>,
     /// Smallest satellite–threat distance over the recordings so far \[m\].
     min_threat_distance_m: f64,
 }
@@ -262,10 +251,10 @@ impl EquilibriumShaping {
     /// range (strategies with equilibrium-shaped avoid coefficients), the threat index, a usable
     /// `perp-common` direction. Returns the common escape direction
     /// for the law's threat (`None` when the scenario has no threat).
-    fn check_swarm(
+    fn check_against(
         p: &EquilibriumShapingParameters,
         tables: &Tables,
-        started: &Started,
+        started: &SwarmFacts,
     ) -> Result<Option<Vector3<f64>>, LawError> {
         let nodes = tables.nodes_m.len();
         if started.count != nodes {
@@ -394,17 +383,8 @@ impl GuidanceLaw for EquilibriumShaping {
         swarm: &SwarmView<'_>,
         states: &mut [EsState],
     ) -> Result<(), LawError> {
-        let started = Started {
-            sensing_range_m: swarm.shared.sensing_range_m,
-            count: swarm.len(),
-            threat_velocities_hill_mps: swarm
-                .environment
-                .threats
-                .iter()
-                .map(|t| t.velocity_hill_mps())
-                .collect(),
-        };
-        let common = Self::check_swarm(&self.parameters, &self.tables, &started)?;
+        let started = SwarmFacts::of(swarm);
+        let common = Self::check_against(&self.parameters, &self.tables, &started)?;
         let mut tables = (*self.tables).clone();
         tables.common_escape_hill = common;
         self.tables = Arc::new(tables);
@@ -414,6 +394,10 @@ impl GuidanceLaw for EquilibriumShaping {
             s.mode_since_s = swarm.shared.time_s;
         }
         Ok(())
+    }
+
+    fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
+        Self::check_against(&self.parameters, &self.tables, swarm).map(|_| ())
     }
 
     fn update_state(
@@ -458,7 +442,7 @@ impl GuidanceLaw for EquilibriumShaping {
     ) -> Result<(), LawError> {
         let (mut tables, avoid, rate) = Self::prepare(parameters)?;
         if let Some(started) = &self.started {
-            tables.common_escape_hill = Self::check_swarm(parameters, &tables, started)?;
+            tables.common_escape_hill = Self::check_against(parameters, &tables, started)?;
         }
         self.parameters = parameters.clone();
         self.tables = Arc::new(tables);

@@ -36,7 +36,9 @@ use std::collections::BTreeMap;
 use nalgebra::{Vector2, Vector3};
 use serde_json::{json, Value};
 
-use crate::swarm::{Broadcast, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
+use crate::swarm::{
+    Broadcast, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+};
 
 pub use parameters::PigeonParameters;
 pub use potentials::{FormationPotential, ObstaclePotential};
@@ -87,22 +89,13 @@ pub struct PigeonState {
     pub clearance_violations: u64,
 }
 
-/// What the law learns from the swarm when it starts (to check parameter updates against).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Started {
-    /// Sensing range of the swarm \[m\].
-    sensing_range_m: f64,
-    /// Number of satellites.
-    count: usize,
-}
-
 /// The `pigeon` law.
 #[derive(Clone, Debug)]
 pub struct Pigeon {
     parameters: PigeonParameters,
     /// S_d, sorted.
     dominant: Vec<usize>,
-    started: Option<Started>,
+    started: Option<SwarmFacts>,
     /// (time \[s\], mean inter-satellite distance \[m\]) at every recording since the law started, for
     /// the stabilisation time of the summary.
     mean_distance_history: Vec<(f64, f64)>,
@@ -171,7 +164,7 @@ impl Pigeon {
         }
     }
 
-    fn check_swarm(p: &PigeonParameters, started: &Started) -> Result<(), LawError> {
+    fn check_against(p: &PigeonParameters, started: &SwarmFacts) -> Result<(), LawError> {
         if p.hierarchical_range_m > started.sensing_range_m {
             return Err(invalid(format!(
                 "hierarchical_range_m = {} m exceeds the sensing range {} m: the hierarchical \
@@ -314,13 +307,14 @@ impl GuidanceLaw for Pigeon {
     ) -> Result<(), LawError> {
         self.mean_distance_history.clear();
         self.target_zone_reached_s = None;
-        let started = Started {
-            sensing_range_m: swarm.shared.sensing_range_m,
-            count: swarm.len(),
-        };
-        Self::check_swarm(&self.parameters, &started)?;
+        let started = SwarmFacts::of(swarm);
+        self.check_swarm(&started)?;
         self.started = Some(started);
         Ok(())
+    }
+
+    fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
+        Self::check_against(&self.parameters, swarm)
     }
 
     /// Step 2 of Algorithm 1: N_i^1 (hysteresis), N_i^2, V_a,i over the previous N_i, p_h, the pattern
@@ -415,7 +409,7 @@ impl GuidanceLaw for Pigeon {
     fn set_parameters(&mut self, parameters: &PigeonParameters) -> Result<(), LawError> {
         let law = Self::new(parameters.clone())?;
         if let Some(started) = &self.started {
-            Self::check_swarm(parameters, started)?;
+            Self::check_against(parameters, started)?;
         }
         self.parameters = law.parameters;
         self.dominant = law.dominant;

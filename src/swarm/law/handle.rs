@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::{Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SwarmView};
+use super::{Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SwarmFacts, SwarmView};
 
 /// Smallest number of satellites per parallel work item (results never depend on the split: each
 /// satellite's new state is computed on its own).
@@ -38,6 +38,7 @@ trait ErasedLaw: Send + Sync {
     fn is_stateful(&self) -> bool;
     fn command_kind(&self) -> CommandKind;
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64>;
+    fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError>;
     fn output_names(&self) -> &'static [&'static str];
     fn metric_names(&self) -> &'static [&'static str];
     fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError>;
@@ -81,6 +82,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {
         self.law.fastest_rate_per_s(mass_kg)
+    }
+
+    fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
+        self.law.check_swarm(swarm)
     }
 
     fn output_names(&self) -> &'static [&'static str] {
@@ -201,6 +206,11 @@ impl Law {
     /// What the law commands.
     pub fn command_kind(&self) -> CommandKind {
         self.0.command_kind()
+    }
+
+    /// See [`GuidanceLaw::check_swarm`].
+    pub fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
+        self.0.check_swarm(swarm)
     }
 
     /// See [`GuidanceLaw::fastest_rate_per_s`] \[1/s\].

@@ -34,7 +34,7 @@ pub use context::LawContext;
 pub use handle::{Law, LawParameters};
 pub use view::{
     Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,
-    SwarmView,
+    SwarmFacts, SwarmView,
 };
 
 /// What a law's command is.
@@ -130,6 +130,14 @@ pub trait GuidanceLaw: Send + Sync + 'static {
     /// Replaces the parameters (an event of the timeline; the scenario layer has merged the event's keys
     /// with the current values and validated the result).
     fn set_parameters(&mut self, parameters: &Self::Parameters) -> Result<(), LawError>;
+
+    /// Checks the law against the swarm it will steer (sensing range, satellite count, threats) without
+    /// running it. The scenario layer calls it for the law at t = 0 and for every law an event sets, so a
+    /// mismatch is refused when the scenario loads; a law calls it from its own
+    /// [`GuidanceLaw::initialise`] and [`GuidanceLaw::set_parameters`] too. Default: nothing to check.
+    fn check_swarm(&self, _swarm: &SwarmFacts) -> Result<(), LawError> {
+        Ok(())
+    }
 
     /// The fastest closed-loop rate \[1/s\] the law can impose on a satellite of the given mass, if it has
     /// one: the engine refuses a control period or a fixed integration step too long to resolve it.

@@ -115,6 +115,35 @@ pub struct SwarmView<'a> {
     pub environment: EnvironmentView<'a>,
 }
 
+/// What a law may check about the swarm it will steer before it runs: the same facts at load time (from
+/// the scenario) and at start (from the view), so a law set by an event is checked when the scenario
+/// loads, not when the event fires.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SwarmFacts {
+    /// Range of sensors and links \[m\].
+    pub sensing_range_m: f64,
+    /// Number of satellites.
+    pub count: usize,
+    /// Velocity of every scenario threat, Hill frame \[m/s\].
+    pub threat_velocities_hill_mps: Vec<Vector3<f64>>,
+}
+
+impl SwarmFacts {
+    /// The facts of a running swarm.
+    pub fn of(swarm: &SwarmView<'_>) -> Self {
+        Self {
+            sensing_range_m: swarm.shared.sensing_range_m,
+            count: swarm.len(),
+            threat_velocities_hill_mps: swarm
+                .environment
+                .threats
+                .iter()
+                .map(|t| t.velocity_hill_mps())
+                .collect(),
+        }
+    }
+}
+
 /// The environment a view senses: the scenario's threats and obstacles, and the ground messages in force.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct EnvironmentView<'a> {
