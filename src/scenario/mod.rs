@@ -85,7 +85,7 @@ fn parse_error_message(text: &str, e: &toml::de::Error) -> String {
             .skip(header_line + 1)
             .take_while(|(k, l)| {
                 let l = l.trim();
-                !(l.starts_with('[') && !table_path(&lines, *k).starts_with(&table))
+                !l.starts_with('[') || table_path(&lines, *k).starts_with(&table)
             })
             .find(|(_, l)| {
                 l.trim()
