@@ -62,8 +62,12 @@ enum Command {
         #[arg(long)]
         fail_on_collision: bool,
     },
-    /// List the built-in scenarios.
-    Scenarios,
+    /// List the built-in scenarios with the first sentence of each description; `scenarios show NAME`
+    /// prints one as TOML, to copy and edit.
+    Scenarios {
+        #[command(subcommand)]
+        action: Option<ScenariosAction>,
+    },
     /// Print the five-element characterisation of a set of positions as JSON.
     Characterize {
         /// CSV with columns x_m,y_m,z_m and optionally radius_m (any common frame).
@@ -85,6 +89,15 @@ enum Command {
         /// Print JSON instead of Markdown.
         #[arg(long)]
         json: bool,
+    },
+}
+
+#[derive(Subcommand)]
+enum ScenariosAction {
+    /// Print a built-in scenario's TOML (`satflock scenarios show gao-circle > mine.toml`).
+    Show {
+        /// Built-in scenario name.
+        name: String,
     },
 }
 
@@ -224,10 +237,22 @@ fn main() -> ExitCode {
             quiet,
             fail_on_collision,
         ),
-        Command::Scenarios => {
+        Command::Scenarios { action: None } => {
             scenarios();
             Ok(())
         }
+        Command::Scenarios {
+            action: Some(ScenariosAction::Show { name }),
+        } => match builtin::find(&name) {
+            Some(b) => {
+                print!("{}", b.toml);
+                Ok(())
+            }
+            None => Err(usage(format!(
+                "no built-in scenario `{name}` (built-in: {})",
+                builtin::names().join(", ")
+            ))),
+        },
         Command::Characterize { positions } => characterize(&positions),
         Command::Propagate(args) => propagate_command(&args),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
@@ -376,9 +401,33 @@ fn scenarios() {
         let description = Scenario::from_toml(b.toml, b.name, Path::new("."))
             .map(|s| s.file.description)
             .unwrap_or_default();
-        let first = description.split(". ").next().unwrap_or("").trim();
-        println!("{:<24} {first}", b.name);
+        println!("{:<24} {}", b.name, first_sentence(&description));
     }
+}
+
+/// The first sentence of a text: up to the first `. ` that does not follow an abbreviation (`Fig.`,
+/// `Eq.`, `et al.`, `e.g.` …) or a lone initial, with line breaks joined.
+fn first_sentence(text: &str) -> String {
+    const ABBREVIATIONS: &[&str] = &[
+        "fig", "figs", "eq", "eqs", "al", "e.g", "i.e", "cf", "vs", "sec", "tab", "no", "approx",
+        "ref", "refs", "resp", "incl",
+    ];
+    let flat = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    let mut from = 0;
+    while let Some(k) = flat[from..].find(". ") {
+        let end = from + k;
+        let word = flat[..end]
+            .rsplit([' ', '(', '/'])
+            .next()
+            .unwrap_or("")
+            .to_ascii_lowercase();
+        let initial = word.chars().count() == 1 && word.chars().all(char::is_alphabetic);
+        if !(ABBREVIATIONS.contains(&word.as_str()) || initial) {
+            return flat[..=end].to_string();
+        }
+        from = end + 2;
+    }
+    flat
 }
 
 fn characterize(path: &Path) -> Result<()> {

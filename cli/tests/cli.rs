@@ -301,6 +301,32 @@ fn val_scenarios_lists_every_builtin() {
     for name in satflock::scenario::builtin::names() {
         assert!(text.contains(name));
     }
+    // The whole first sentence, not cut at an abbreviation such as "Figs." or "et al.".
+    let circle = text.lines().find(|l| l.starts_with("gao-circle ")).unwrap();
+    assert!(
+        circle.contains("Figs. 12-14") && circle.ends_with("in the orbital plane."),
+        "{circle}"
+    );
+}
+
+#[test]
+fn val_scenarios_show_prints_the_builtin_toml_and_unknown_names_exit_2() {
+    let output = satflock()
+        .args(["scenarios", "show", "gao-circle"])
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    let text = String::from_utf8(output.stdout).unwrap();
+    let shown =
+        satflock::scenario::Scenario::from_toml(&text, "shown", std::path::Path::new(".")).unwrap();
+    let builtin = satflock::scenario::Scenario::load("gao-circle").unwrap();
+    assert_eq!(shown.file, builtin.file);
+    let output = satflock()
+        .args(["scenarios", "show", "nope"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("gao-circle"));
 }
 
 #[test]
