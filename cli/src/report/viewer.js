@@ -113,11 +113,11 @@
   for (const p of formation) {
     include(p, 0);
   }
-  // A threat joins the extent while it is within ten times the extent so far (one from far away would
+  // A threat joins the extent while it is within four times the extent so far (one from far away would
   // shrink the swarm to a dot); the wheel zooms out to it.
   if (Number.isFinite(lo[0]) && scene.threats.length > 0) {
     const mid = [0, 1, 2].map((a) => 0.5 * (lo[a] + hi[a]));
-    const reach = 10 * Math.max(1, 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
+    const reach = 4 * Math.max(1, 0.5 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
     for (const th of scene.threats) {
       for (const t of tr.times_s) {
         const q = [0, 1, 2].map((a) => th.position_at_t0_lvlh_m[a] + th.velocity_lvlh_mps[a] * t);
@@ -288,7 +288,8 @@
       // The label beyond the tip, centred on the arrow's line.
       const w = ctx.measureText(names[a]).width;
       const len = Math.max(1e-9, Math.hypot(ex, ey));
-      ctx.fillText(names[a], ox + ex + (ex / len) * (0.5 * w + 4) - 0.5 * w, oy + ey + (ey / len) * 10 + 4);
+      const lx = ox + ex + (ex / len) * (0.5 * w + 4) - 0.5 * w;
+      ctx.fillText(names[a], Math.min(W - w - 4, Math.max(4, lx)), oy + ey + (ey / len) * 10 + 4);
     }
     ctx.lineWidth = 1;
   }
