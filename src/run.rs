@@ -79,14 +79,16 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
     })
 }
 
-/// The files a run writes into its output directory. A directory holding only these (or nothing) is a
-/// previous run's, which [`run_scenario`] clears before it starts.
+/// The files a run writes into its output directory (`report.html` is the CLI's `satflock report`). A
+/// directory holding only these (or nothing) is a previous run's, which [`run_scenario`] clears before
+/// it starts.
 pub const RUN_FILES: &[&str] = &[
     "summary.json",
     "metrics.csv",
     "trajectory.csv",
     "scene.json",
     "scenario.toml",
+    "report.html",
 ];
 
 /// How a run is driven beyond its scenario.

@@ -61,6 +61,16 @@ enum Command {
         /// summary.json's `warnings`, and the run exits 0).
         #[arg(long)]
         fail_on_collision: bool,
+        /// Also write the offline HTML report, OUT/report.html (as `satflock report OUT`), when the run
+        /// wrote its summary (also after a run that stopped).
+        #[arg(long)]
+        report: bool,
+    },
+    /// Write RUN_DIR/report.html: one self-contained page (works offline) with the scenario, a summary
+    /// table, the plots in RUN_DIR/plots/ and an animated 3-D view of the swarm in Hill LVLH.
+    Report {
+        /// A run's output directory (as written by `satflock run`).
+        run_dir: PathBuf,
     },
     /// List the built-in scenarios with the first sentence of each description; `scenarios show NAME`
     /// prints one as TOML, to copy and edit.
@@ -230,13 +240,33 @@ fn main() -> ExitCode {
             threads,
             quiet,
             fail_on_collision,
-        } => run(
-            &scenario,
-            &out,
-            threads.map(usize::from),
-            quiet,
-            fail_on_collision,
-        ),
+            report,
+        } => {
+            let outcome = run(
+                &scenario,
+                &out,
+                threads.map(usize::from),
+                quiet,
+                fail_on_collision,
+            );
+            // A run that started (completed, stopped or interrupted) has valid files and a summary;
+            // refused input never touched the directory.
+            let started = outcome
+                .as_ref()
+                .map_or_else(|e| e.downcast_ref::<UsageError>().is_none(), |()| true);
+            if report && started && out.join("summary.json").is_file() {
+                match (outcome, report_command(&out, quiet)) {
+                    (Err(e), Err(r)) => {
+                        eprintln!("error: {r:#}");
+                        Err(e)
+                    }
+                    (outcome, written) => outcome.and(written),
+                }
+            } else {
+                outcome
+            }
+        }
+        Command::Report { run_dir } => report_command(&run_dir, false),
         Command::Scenarios { action: None } => {
             scenarios();
             Ok(())
@@ -374,6 +404,19 @@ fn run(
         }
         Err(e) => Err(e.into()),
     }
+}
+
+/// Writes `dir/report.html`; a run directory that cannot be read is the user's input (exit 2).
+fn report_command(dir: &Path, quiet: bool) -> Result<()> {
+    use satflock_cli::report::{self, ReportError};
+    let path = report::write(dir).map_err(|e| match e {
+        ReportError::Read(_) => usage(e.to_string()),
+        ReportError::Write { .. } => anyhow::Error::from(e),
+    })?;
+    if !quiet {
+        eprintln!("report: {}", path.display());
+    }
+    Ok(())
 }
 
 fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {
