@@ -21,6 +21,9 @@ pub const MAX_FILE_BYTES: u64 = 1 << 30;
 /// Columns that mark a run's trajectory table.
 const TRAJECTORY_COLUMNS: [&str; 4] = ["t_s", "x_lvlh_m", "y_lvlh_m", "z_lvlh_m"];
 
+/// Positions \[m\] and, if the file gives them, radii \[m\].
+type PointSet = (Vec<[f64; 3]>, Option<Vec<f64>>);
+
 /// Runs the command on `path`; `time_s` picks the recorded time of a trajectory file.
 pub fn run(path: &Path, time_s: Option<f64>) -> Result<()> {
     let shown = path.display();
@@ -135,7 +138,7 @@ fn positions_csv(
     path: &Path,
     mut reader: csv::Reader<std::fs::File>,
     header: &[String],
-) -> Result<(Vec<[f64; 3]>, Option<Vec<f64>>)> {
+) -> Result<PointSet> {
     let shown = path.display();
     let with_radius = match header.iter().map(String::as_str).collect::<Vec<_>>()[..] {
         ["x_m", "y_m", "z_m"] => false,
