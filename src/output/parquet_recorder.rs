@@ -9,7 +9,8 @@
 //! Metadata: every column (Arrow field metadata) has `unit` (`m`, `m/s`, `s`, `deg`, `h`; `1` for counts
 //! and dimensionless numbers; `UTC` for `time_utc`) and, for vector components, `frame`
 //! ([`crate::output::frames::LVLH_FRAME`] or [`crate::output::frames::INERTIAL_FRAME`]); the file's
-//! key-value metadata has `scenario`, `seed`, `epoch_utc` and `satflock_version`.
+//! key-value metadata and the Arrow schema's metadata have `scenario`, `seed`, `epoch_utc` and
+//! `satflock_version`.
 //!
 //! Streaming: rows are handed to the Parquet writer as they are recorded (a record of many satellites
 //! in pieces of at most [`ROW_GROUP_ROWS`] rows) and it writes a row group every [`ROW_GROUP_ROWS`]
@@ -77,19 +78,30 @@ fn field(column: &Column) -> Field {
 
 impl ParquetTable {
     fn create(path: PathBuf, columns: Vec<Column>, run: &RunMetadata) -> std::io::Result<Self> {
-        let schema = Arc::new(Schema::new(columns.iter().map(field).collect::<Vec<_>>()));
+        let run_keys = HashMap::from([
+            ("scenario".to_string(), run.scenario.clone()),
+            ("seed".to_string(), run.seed.to_string()),
+            ("epoch_utc".to_string(), time::utc_iso(run.epoch)),
+            (
+                "satflock_version".to_string(),
+                env!("CARGO_PKG_VERSION").to_string(),
+            ),
+        ]);
+        let mut key_values: Vec<KeyValue> = run_keys
+            .iter()
+            .map(|(k, v)| KeyValue::new(k.clone(), v.clone()))
+            .collect();
+        key_values.sort_by(|a, b| a.key.cmp(&b.key));
+        // In the file's key-value metadata (any Parquet reader) and in the Arrow schema's (the schema
+        // of a table read by pyarrow, polars or arrow-rs).
+        let schema = Arc::new(Schema::new_with_metadata(
+            columns.iter().map(field).collect::<Vec<_>>(),
+            run_keys,
+        ));
         let properties = WriterProperties::builder()
             .set_compression(Compression::SNAPPY)
             .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
-            .set_key_value_metadata(Some(vec![
-                KeyValue::new("scenario".into(), run.scenario.clone()),
-                KeyValue::new("seed".into(), run.seed.to_string()),
-                KeyValue::new("epoch_utc".into(), time::utc_iso(run.epoch)),
-                KeyValue::new(
-                    "satflock_version".into(),
-                    env!("CARGO_PKG_VERSION").to_string(),
-                ),
-            ]))
+            .set_key_value_metadata(Some(key_values))
             .build();
         let file = File::create(&path)?;
         let writer = ArrowWriter::try_new(file, schema.clone(), Some(properties))
