@@ -11,7 +11,10 @@ use thiserror::Error;
 
 use crate::output::frames;
 use crate::output::summary::{EnvironmentSummary, FinalState, Frames};
-use crate::output::{CsvColumns, CsvRecorder, DeltaVSummary, RunStatus, RunSummary, Scene};
+use crate::output::{
+    DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
+    Scene, TableFormats,
+};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{SimError, Simulation};
 
@@ -86,6 +89,8 @@ pub const RUN_FILES: &[&str] = &[
     "summary.json",
     "metrics.csv",
     "trajectory.csv",
+    "metrics.parquet",
+    "trajectory.parquet",
     "scene.json",
     "scenario.toml",
     "report.html",
@@ -97,6 +102,9 @@ pub struct RunOptions {
     /// A flag another thread (a signal handler) may set to stop the run after the current segment; the
     /// files are then closed and `summary.json` says `interrupted`.
     pub cancel: Option<Arc<AtomicBool>>,
+    /// The tables' file format, overriding the scenario's `[output] format` (see
+    /// [`TableFormats::choose`]).
+    pub format: Option<OutputFormat>,
 }
 
 /// Makes `dir` ready for a run: creates it if needed; if it exists, it must be a directory holding
@@ -161,7 +169,8 @@ fn check_output_keys(scenario: &Scenario) -> Result<Option<f64>, RunError> {
     }
 }
 
-/// Runs a scenario, writing `metrics.csv`, `trajectory.csv` (unless the scenario turns it off) and
+/// Runs a scenario, writing the metrics and trajectory tables (the trajectory unless the scenario turns
+/// it off; CSV or Parquet, see [`TableFormats::choose`]), `scene.json`, `scenario.toml` and
 /// `summary.json` into `out_dir` (created if needed). `progress` receives the simulated time \[s\].
 /// Returns the summary; on a simulation failure the summary is written with status `failed` and the
 /// error is returned.
@@ -210,7 +219,7 @@ pub fn run_scenario_with(
     }
     // The output directory is created (or a previous run's cleared) only once the run can start.
     prepare_output_dir(out_dir)?;
-    let columns = CsvColumns {
+    let columns = OutputColumns {
         threats: !simulation.config().threats.is_empty(),
         obstacles: !simulation.config().obstacles.is_empty(),
         law_metrics: simulation.law_metric_names(),
@@ -226,12 +235,26 @@ pub fn run_scenario_with(
         message: e.to_string(),
     })?;
     std::fs::write(&scenario_path, scenario_text).map_err(|e| output_error(&scenario_path, e))?;
-    let mut recorder = CsvRecorder::create(out_dir, prepared.write_trajectory, columns, epoch)
+    let formats = TableFormats::choose(
+        options.format.or(scenario.file.output.format),
+        n,
+        prepared.write_trajectory,
+    );
+    let run_metadata = RunMetadata {
+        scenario: prepared.name.clone(),
+        seed,
+        epoch,
+    };
+    let mut recorder = RunRecorder::create(out_dir, formats, columns, &run_metadata)
         .map_err(|e| output_error(out_dir, e))?;
     let started = Instant::now();
     let outcome = simulation.run(&mut recorder, progress);
     let wall_time_s = started.elapsed().as_secs_f64();
-    drop(recorder);
+    // The files are closed however the run ended; a file that cannot be closed fails the run.
+    let outcome = match (outcome, recorder.finish()) {
+        (Ok(_), Err(e)) => Err(SimError::Recording(e)),
+        (outcome, _) => outcome,
+    };
 
     let law_results = simulation.law_results();
     let totals = simulation.totals().clone();

@@ -14,11 +14,13 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
+mod characterize;
+
 use satflock::integrate::{IntegratorMethod, Tolerances};
-use satflock::metrics::{five_elements, FiveElementsWorkspace};
 use satflock::orbit::{
     hill_to_gao, CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame, Vector3,
 };
+use satflock::output::OutputFormat;
 use satflock::propagate::{propagate, PropagationSettings};
 use satflock::run::{run_scenario_with, RunError, RunOptions};
 use satflock::scenario::{builtin, Scenario};
@@ -37,8 +39,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scenario (a TOML file or a built-in name) and write summary.json, metrics.csv and
-    /// trajectory.csv into the output directory.
+    /// Run a scenario (a TOML file or a built-in name) and write summary.json and the metrics and
+    /// trajectory tables (CSV or Parquet) into the output directory.
     ///
     /// SIGINT or SIGTERM stops the run after the current step: the files are closed, summary.json says
     /// `interrupted`, and the exit code is 130 or 143 (a second signal exits at once).
@@ -61,6 +63,10 @@ enum Command {
         /// summary.json's `warnings`, and the run exits 0).
         #[arg(long)]
         fail_on_collision: bool,
+        /// File format of the metrics and trajectory tables, overriding the scenario's `[output]
+        /// format` (default: CSV, except a trajectory of more than 1000 satellites, which is Parquet).
+        #[arg(long, value_enum)]
+        format: Option<FormatArg>,
         /// Also write the offline HTML report, OUT/report.html (as `satflock report OUT`), when the run
         /// wrote its summary (also after a run that stopped).
         #[arg(long)]
@@ -79,9 +85,17 @@ enum Command {
         action: Option<ScenariosAction>,
     },
     /// Print the five-element characterisation of a set of positions as JSON.
+    ///
+    /// The positions come from a CSV file with columns x_m,y_m,z_m and optionally radius_m, or from a
+    /// run's trajectory file (trajectory.csv or trajectory.parquet): the Hill LVLH positions of the
+    /// satellites at one recorded time (stderr says which).
+    #[command(allow_negative_numbers = true)]
     Characterize {
-        /// CSV with columns x_m,y_m,z_m and optionally radius_m (any common frame).
+        /// CSV with columns x_m,y_m,z_m[,radius_m] (any common frame), or a run's trajectory file.
         positions: PathBuf,
+        /// With a trajectory file: the recorded time nearest to this [s] (default: the last one).
+        #[arg(long)]
+        time_s: Option<f64>,
     },
     /// Propagate one orbit (no control) and write its states to CSV.
     #[command(allow_negative_numbers = true)]
@@ -109,6 +123,14 @@ enum ScenariosAction {
         /// Built-in scenario name.
         name: String,
     },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FormatArg {
+    /// metrics.csv, trajectory.csv.
+    Csv,
+    /// metrics.parquet, trajectory.parquet.
+    Parquet,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -241,6 +263,7 @@ fn main() -> ExitCode {
             quiet,
             fail_on_collision,
             report,
+            format,
         } => {
             let outcome = run(
                 &scenario,
@@ -248,6 +271,10 @@ fn main() -> ExitCode {
                 threads.map(usize::from),
                 quiet,
                 fail_on_collision,
+                format.map(|f| match f {
+                    FormatArg::Csv => OutputFormat::Csv,
+                    FormatArg::Parquet => OutputFormat::Parquet,
+                }),
             );
             // A run that started (completed, stopped or interrupted) has valid files and a summary;
             // refused input never touched the directory.
@@ -283,7 +310,7 @@ fn main() -> ExitCode {
                 builtin::names().join(", ")
             ))),
         },
-        Command::Characterize { positions } => characterize(&positions),
+        Command::Characterize { positions, time_s } => characterize::run(&positions, time_s),
         Command::Propagate(args) => propagate_command(&args),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
     };
@@ -326,6 +353,7 @@ fn run(
     threads: Option<usize>,
     quiet: bool,
     fail_on_collision: bool,
+    format: Option<OutputFormat>,
 ) -> Result<()> {
     let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
     // Validate before anything is created on disk.
@@ -360,6 +388,7 @@ fn run(
     let (cancel, which) = install_signal_handlers()?;
     let options = RunOptions {
         cancel: Some(cancel),
+        format,
     };
     let outcome = pool.install(|| run_scenario_with(&scenario, out, &options, &mut progress));
     bar.finish_and_clear();
@@ -471,70 +500,6 @@ fn first_sentence(text: &str) -> String {
         from = end + 2;
     }
     flat
-}
-
-fn characterize(path: &Path) -> Result<()> {
-    let mut reader =
-        csv::Reader::from_path(path).map_err(|e| usage(format!("{}: {e}", path.display())))?;
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(|e| usage(format!("{}: {e}", path.display())))?
-        .iter()
-        .map(|h| h.trim().to_string())
-        .collect();
-    let with_radius = match header.iter().map(String::as_str).collect::<Vec<_>>()[..] {
-        ["x_m", "y_m", "z_m"] => false,
-        ["x_m", "y_m", "z_m", "radius_m"] => true,
-        _ => {
-            return Err(usage(format!(
-                "{}: header is `{}` (required: `x_m,y_m,z_m` or `x_m,y_m,z_m,radius_m`)",
-                path.display(),
-                header.join(",")
-            )))
-        }
-    };
-    let mut positions = Vec::new();
-    let mut radii = Vec::new();
-    for (row, record) in reader.records().enumerate() {
-        let record = record.map_err(|e| usage(format!("{}: {e}", path.display())))?;
-        let values: Vec<f64> = record
-            .iter()
-            .map(|v| v.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .ok()
-            .filter(|v: &Vec<f64>| v.len() == header.len() && v.iter().all(|x| x.is_finite()))
-            .ok_or_else(|| {
-                usage(format!(
-                    "{} line {}: expected {} finite numbers",
-                    path.display(),
-                    row + 2,
-                    header.len()
-                ))
-            })?;
-        positions.push([values[0], values[1], values[2]]);
-        if with_radius {
-            if values[3] < 0.0 {
-                return Err(usage(format!(
-                    "{} line {}: radius_m = {} is out of range (allowed: >= 0)",
-                    path.display(),
-                    row + 2,
-                    values[3]
-                )));
-            }
-            radii.push(values[3]);
-        }
-    }
-    let velocities = vec![[0.0; 3]; positions.len()];
-    let mut workspace = FiveElementsWorkspace::new();
-    let elements = five_elements(
-        &positions,
-        &velocities,
-        with_radius.then_some(&radii[..]),
-        &mut workspace,
-    )
-    .map_err(|e| usage(format!("{}: {e}", path.display())))?;
-    println!("{}", serde_json::to_string_pretty(&elements)?);
-    Ok(())
 }
 
 /// Parses six comma-separated numbers.

@@ -24,6 +24,9 @@ the J2 term, no precession or nutation: the model's stand-in for the mean equato
 /// by the 23 mas frame bias: under a metre at orbital radii).
 pub const CZML_INERTIAL_FRAME: &str = "INERTIAL";
 
+/// Short name of the relative frame (Parquet column metadata `frame`, beside [`INERTIAL_FRAME`]).
+pub const LVLH_FRAME: &str = "Hill LVLH";
+
 /// One sentence saying what the LVLH columns are.
 pub const LVLH_FRAME_DESCRIPTION: &str = "Hill LVLH centred on the reference orbit (or the origin \
 member): x radial outward, y along-track, z along the orbit normal";

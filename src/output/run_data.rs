@@ -2,12 +2,18 @@
 //! tools that work from a finished (or stopped) run's files — plots, the report, the OEM and CZML
 //! exports, `characterize` on a trajectory.
 //!
-//! Tables are numeric columns by name (the `time_utc` text column is left out: it is the summary's
-//! `epoch_utc` plus `t_s`); an empty cell (a value that does not exist) reads as NaN. A last line
-//! without its newline (a run killed outright) is not a whole record and is left out.
+//! Each table is read from its CSV or its Parquet file, whichever the run wrote. Tables are numeric
+//! columns by name (the `time_utc` text column is left out: it is the summary's `epoch_utc` plus `t_s`);
+//! an empty CSV cell or a Parquet null (a value that does not exist) reads as NaN. A last CSV line
+//! without its newline (a run killed outright) is not a whole record and is left out; a Parquet file of a
+//! run killed outright has no footer and is refused, saying so.
 
 use std::path::{Path, PathBuf};
 
+use arrow_array::cast::AsArray;
+use arrow_array::types::{Float64Type, UInt64Type};
+use arrow_schema::DataType;
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use thiserror::Error;
 
 use crate::time::{self, Epoch};
@@ -52,11 +58,71 @@ impl Table {
         Self { names, columns }
     }
 
+    /// Reads a table written by satflock: Parquet if the file name ends in `.parquet`, CSV otherwise.
+    pub fn read(path: &Path) -> Result<Self, RunDataError> {
+        if path.extension().is_some_and(|e| e == "parquet") {
+            Self::read_parquet(path)
+        } else {
+            Self::read_csv(path)
+        }
+    }
+
     /// Reads a CSV file written by satflock (header line, then numbers or empty cells).
     pub fn read_csv(path: &Path) -> Result<Self, RunDataError> {
-        let text =
-            std::fs::read_to_string(path).map_err(|e| RunDataError::new(path, e.to_string()))?;
+        let text = std::fs::read_to_string(regular_file(path)?)
+            .map_err(|e| RunDataError::new(path, e.to_string()))?;
         Self::parse_csv(&text).map_err(|m| RunDataError::new(path, m))
+    }
+
+    /// Reads a Parquet file written by satflock: its number columns (`Float64`, nulls as NaN, and
+    /// `UInt64` counts), leaving out `time_utc`.
+    pub fn read_parquet(path: &Path) -> Result<Self, RunDataError> {
+        let error = |e: &dyn std::fmt::Display| RunDataError::new(path, e.to_string());
+        let file = std::fs::File::open(regular_file(path)?).map_err(|e| error(&e))?;
+        let builder = ParquetRecordBatchReaderBuilder::try_new(file).map_err(|e| {
+            RunDataError::new(
+                path,
+                format!(
+                    "{e} (a Parquet file is readable once its run has closed it; a run killed \
+                     outright, e.g. by SIGKILL, leaves no footer: CSV is the format that survives that)"
+                ),
+            )
+        })?;
+        let schema = builder.schema().clone();
+        let mut names = Vec::new();
+        let mut keep = Vec::new();
+        for (k, field) in schema.fields().iter().enumerate() {
+            if TEXT_COLUMNS.contains(&field.name().as_str()) {
+                continue;
+            }
+            if !matches!(field.data_type(), DataType::Float64 | DataType::UInt64) {
+                return Err(RunDataError::new(
+                    path,
+                    format!(
+                        "column `{}` is {} (expected Float64 or UInt64 numbers)",
+                        field.name(),
+                        field.data_type()
+                    ),
+                ));
+            }
+            names.push(field.name().clone());
+            keep.push(k);
+        }
+        let rows = builder.metadata().file_metadata().num_rows().max(0) as usize;
+        let mut columns: Vec<Vec<f64>> = vec![Vec::with_capacity(rows); names.len()];
+        let reader = builder.build().map_err(|e| error(&e))?;
+        for batch in reader {
+            let batch = batch.map_err(|e| error(&e))?;
+            for (column, &k) in columns.iter_mut().zip(&keep) {
+                let array = batch.column(k);
+                if let Some(a) = array.as_primitive_opt::<Float64Type>() {
+                    column.extend(a.iter().map(|v| v.unwrap_or(f64::NAN)));
+                } else if let Some(a) = array.as_primitive_opt::<UInt64Type>() {
+                    column.extend(a.iter().map(|v| v.map_or(f64::NAN, |v| v as f64)));
+                }
+            }
+        }
+        Ok(Self { names, columns })
     }
 
     fn parse_csv(text: &str) -> Result<Self, String> {
@@ -126,6 +192,30 @@ impl Table {
     }
 }
 
+/// `path` if it is a regular file (a device such as `/dev/zero` or a FIFO would be read forever).
+fn regular_file(path: &Path) -> Result<&Path, RunDataError> {
+    let metadata = std::fs::metadata(path).map_err(|e| RunDataError::new(path, e.to_string()))?;
+    if metadata.is_file() {
+        Ok(path)
+    } else {
+        Err(RunDataError::new(
+            path,
+            "is not a regular file (allowed: a table file written by satflock)",
+        ))
+    }
+}
+
+/// Reads `dir/NAME.csv` or, if there is none, `dir/NAME.parquet` (`None`: neither exists).
+fn read_table(dir: &Path, name: &str) -> Result<Option<Table>, RunDataError> {
+    for ext in ["csv", "parquet"] {
+        let path = dir.join(format!("{name}.{ext}"));
+        if path.exists() {
+            return Table::read(&path).map(Some);
+        }
+    }
+    Ok(None)
+}
+
 /// A run directory read back.
 #[derive(Clone, Debug)]
 pub struct RunData {
@@ -135,16 +225,18 @@ pub struct RunData {
     pub summary: serde_json::Value,
     /// The instant of t = 0 (the summary's `epoch_utc`).
     pub epoch: Epoch,
-    /// `metrics.csv`: one row per recording time.
+    /// `metrics.csv` or `metrics.parquet`: one row per recording time.
     pub metrics: Table,
-    /// `trajectory.csv`, when the run wrote one: one row per live satellite per recording time.
+    /// `trajectory.csv` or `trajectory.parquet`, when the run wrote one: one row per live satellite per
+    /// recording time.
     pub trajectory: Option<Table>,
     /// `scene.json`: threats, obstacles, target formation.
     pub scene: super::Scene,
 }
 
 impl RunData {
-    /// Reads `dir/summary.json`, `dir/metrics.csv` and, if present, `dir/trajectory.csv`.
+    /// Reads `dir/summary.json`, `dir/scene.json`, the metrics table and, if present, the trajectory
+    /// table (each from its `.csv` or its `.parquet` file).
     pub fn read(dir: &Path) -> Result<Self, RunDataError> {
         if !dir.is_dir() {
             return Err(RunDataError::new(
@@ -167,13 +259,13 @@ impl RunData {
             .unwrap_or(time::DEFAULT_EPOCH_UTC);
         let epoch = time::parse_epoch_utc(epoch_text)
             .map_err(|m| RunDataError::new(&summary_path, format!("epoch_utc: {m}")))?;
-        let metrics = Table::read_csv(&dir.join("metrics.csv"))?;
-        let trajectory_path = dir.join("trajectory.csv");
-        let trajectory = if trajectory_path.exists() {
-            Some(Table::read_csv(&trajectory_path)?)
-        } else {
-            None
-        };
+        let metrics = read_table(dir, "metrics")?.ok_or_else(|| {
+            RunDataError::new(
+                dir,
+                "holds neither metrics.csv nor metrics.parquet (a run directory holds one)",
+            )
+        })?;
+        let trajectory = read_table(dir, "trajectory")?;
         let scene = super::Scene::read(dir)?;
         Ok(Self {
             scene,

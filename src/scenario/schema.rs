@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::guidance::LawConfig;
 use crate::integrate::IntegratorMethod;
+use crate::output::OutputFormat;
 use crate::swarm::LimitKind;
 
 /// A whole scenario file.
@@ -497,9 +498,14 @@ pub enum ActionSection {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSection {
-    /// Write `trajectory.csv` (default true; large swarms may turn it off).
+    /// Write the trajectory table (default true; large swarms may turn it off).
     #[serde(default = "default_true")]
     pub trajectory: bool,
+    /// File format of the tables, `"csv"` or `"parquet"` (absent: CSV for the metrics, and for the
+    /// trajectory up to [`crate::output::recorder::CSV_TRAJECTORY_MAX_SATELLITES`] satellites, Parquet
+    /// above; `satflock run --format` overrides it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub format: Option<OutputFormat>,
     /// Extra metadata copied into `summary.json`.
     #[serde(default)]
     pub tags: BTreeMap<String, String>,
@@ -521,6 +527,7 @@ impl Default for OutputSection {
     fn default() -> Self {
         Self {
             trajectory: true,
+            format: None,
             tags: BTreeMap::new(),
             delta_v_budget_mps: None,
             allow_large: false,
