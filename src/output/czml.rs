@@ -247,3 +247,91 @@ pub fn write_run_czml(
     write_whole(path, text.as_bytes())?;
     Ok(decimation)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::export::inertial_column_names;
+    use crate::output::Table;
+
+    /// A run of `n` satellites on circles of 7000 km, recorded at t = 0, 10, …, 10·(times − 1) s.
+    fn run(n: usize, times: usize) -> RunData {
+        let mut names = vec!["t_s".to_string(), "id".to_string()];
+        names.extend(inertial_column_names());
+        let mut columns = vec![Vec::new(); names.len()];
+        for k in 0..times {
+            for id in 0..n {
+                let angle = k as f64 * 1e-3 + id as f64 * 1e-4;
+                let row = [
+                    10.0 * k as f64,
+                    id as f64,
+                    7e6 * angle.cos(),
+                    7e6 * angle.sin(),
+                    0.0,
+                    -7.5e3 * angle.sin(),
+                    7.5e3 * angle.cos(),
+                    0.0,
+                ];
+                for (c, v) in columns.iter_mut().zip(row) {
+                    c.push(v);
+                }
+            }
+        }
+        RunData {
+            dir: "memory".into(),
+            summary: json!({"scenario": "test"}),
+            epoch: time::parse_epoch_utc(time::DEFAULT_EPOCH_UTC).unwrap(),
+            metrics: Table::default(),
+            trajectory: Some(Table::new(names, columns)),
+            scene: Default::default(),
+        }
+    }
+
+    #[test]
+    fn paths_are_off_by_default_above_the_limit_and_on_when_asked() {
+        let many = run(PATHS_MAX_SATELLITES + 1, 3);
+        let (packets, kept) = czml_packets(&many, &CzmlOptions::default()).unwrap();
+        assert!(!kept.paths && packets[1..].iter().all(|p| p.get("path").is_none()));
+        assert!(kept.describe().contains("`--paths`"), "{}", kept.describe());
+        let asked = CzmlOptions {
+            paths: Some(true),
+            ..CzmlOptions::default()
+        };
+        let (packets, kept) = czml_packets(&many, &asked).unwrap();
+        assert!(kept.paths && packets[1..].iter().all(|p| p["path"].is_object()));
+        let few = run(PATHS_MAX_SATELLITES, 3);
+        assert!(czml_packets(&few, &CzmlOptions::default()).unwrap().1.paths);
+    }
+
+    #[test]
+    fn decimation_keeps_evenly_spaced_satellites_and_every_kth_time() {
+        let options = CzmlOptions {
+            max_satellites: 4,
+            max_samples: 5,
+            paths: None,
+        };
+        let (packets, kept) = czml_packets(&run(10, 21), &options).unwrap();
+        // 10 satellites → indices 0, 2, 5, 7; 21 times → one in 5: t = 0, 50, 100, 150, 200.
+        let ids: Vec<&str> = packets[1..]
+            .iter()
+            .map(|p| p["id"].as_str().unwrap())
+            .collect();
+        assert_eq!(ids, ["sat-00000", "sat-00002", "sat-00005", "sat-00007"]);
+        assert_eq!((kept.every_kth_time, kept.times_kept), (5, 5));
+        let cartesian = packets[1]["position"]["cartesian"].as_array().unwrap();
+        let times: Vec<f64> = cartesian
+            .iter()
+            .step_by(4)
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        assert_eq!(times, [0.0, 50.0, 100.0, 150.0, 200.0]);
+        assert!(czml_packets(
+            &run(2, 2),
+            &CzmlOptions {
+                max_samples: 0,
+                ..options
+            }
+        )
+        .is_err());
+    }
+}

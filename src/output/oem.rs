@@ -247,11 +247,20 @@ pub fn write_run_oem(
         field("status"),
     )];
     let segment_comments = vec![format!("Scenario: {scenario}.")];
-    let message = |objects: Vec<OemObject<'_>>| {
+    let mut all_comments = header_comments.clone();
+    if tracks.len() > 1 {
+        all_comments.push(
+            "Several objects, one segment each: CCSDS 502.0-B-2 (5.1.3) defines an OEM for a single \
+             object, so readers that enforce it need one file per satellite (satflock export oem \
+             --per-satellite)."
+                .into(),
+        );
+    }
+    let message = |objects: Vec<OemObject<'_>>, header_comments: &[String]| {
         OemMessage {
             creation_date,
             epoch: run.epoch,
-            header_comments: header_comments.clone(),
+            header_comments: header_comments.to_vec(),
             segment_comments: segment_comments.clone(),
             objects,
         }
@@ -261,7 +270,7 @@ pub fn write_run_oem(
         OemLayout::OneFile(path) => {
             write_whole(
                 path,
-                message(tracks.iter().map(satellite_object).collect()).as_bytes(),
+                message(tracks.iter().map(satellite_object).collect(), &all_comments).as_bytes(),
             )?;
             Ok((vec![path.clone()], tracks.len()))
         }
@@ -270,7 +279,8 @@ pub fn write_run_oem(
             let mut written = Vec::with_capacity(tracks.len());
             for track in &tracks {
                 let path = dir.join(satellite_file_name(track.id));
-                write_whole(&path, message(vec![satellite_object(track)]).as_bytes())?;
+                let text = message(vec![satellite_object(track)], &header_comments);
+                write_whole(&path, text.as_bytes())?;
                 written.push(path);
             }
             Ok((written, tracks.len()))
