@@ -538,6 +538,12 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             )));
         }
     }
+    if args.oem.as_ref() == Some(&args.out) {
+        return Err(usage(format!(
+            "--oem {}: is also the --out file (allowed: another path)",
+            args.out.display()
+        )));
+    }
     if args.oem.is_some() && args.frame != FrameArg::Inertial {
         return Err(usage(
             "--oem needs --frame inertial (an OEM holds inertial EME2000 states; LVLH states are not an \
