@@ -22,7 +22,7 @@
 //! | engine | [`swarm`] | the law interface, the simulation (sensing, propagation, scheduler, events, monitors, snapshots) |
 //! | laws | [`guidance`] | the guidance laws and their registry |
 //! | input | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
-//! | output | [`output`] | streamed CSV recorder and the JSON run summary |
+//! | output | [`output`] | streamed CSV recorder, JSON run summary, run-directory reader, CCSDS OEM and CZML exports |
 //! | front | [`propagate`], [`run`] | single-orbit propagation; a scenario end to end |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.

@@ -9,8 +9,9 @@ use std::time::Instant;
 
 use thiserror::Error;
 
-use crate::output::frames;
+use crate::output::oem::{self, OemLayout};
 use crate::output::summary::{EnvironmentSummary, FinalState, Frames};
+use crate::output::{czml, frames, ExportError, RunData};
 use crate::output::{
     DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
     Scene, TableFormats,
@@ -82,9 +83,10 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
     })
 }
 
-/// The files a run writes into its output directory (`report.html` is the CLI's `satflock report`). A
-/// directory holding only these (or nothing) is a previous run's, which [`run_scenario`] clears before
-/// it starts.
+/// The files a run writes into its output directory, and those written there later (`swarm.oem`,
+/// `swarm.czml` by the exports, `report.html` by the CLI's `satflock report`). A directory holding only
+/// these and the folder [`oem::RUN_DIR_NAME`] of per-satellite OEM files (or nothing) is a previous
+/// run's, which [`run_scenario`] clears before it starts.
 pub const RUN_FILES: &[&str] = &[
     "summary.json",
     "metrics.csv",
@@ -94,7 +96,25 @@ pub const RUN_FILES: &[&str] = &[
     "scene.json",
     "scenario.toml",
     "report.html",
+    oem::RUN_FILE,
+    czml::RUN_FILE,
 ];
+
+/// Whether `dir` is a folder of per-satellite OEM files a previous export wrote: named
+/// [`oem::RUN_DIR_NAME`] and holding only `sat-*.oem` files.
+fn is_oem_folder(dir: &Path) -> std::io::Result<bool> {
+    if dir.file_name().is_none_or(|n| n != oem::RUN_DIR_NAME) {
+        return Ok(false);
+    }
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !(entry.file_type()?.is_file() && name.starts_with("sat-") && name.ends_with(".oem")) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
 
 /// How a run is driven beyond its scenario.
 #[derive(Clone, Debug, Default)]
@@ -133,15 +153,21 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
         Ok(_) => {}
     }
     let mut found = Vec::new();
+    let mut oem_folder = false;
     for entry in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
         let entry = entry.map_err(|e| output_error(dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
         let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
+        if !is_file && is_oem_folder(&entry.path()).map_err(|e| output_error(&entry.path(), e))? {
+            oem_folder = true;
+            continue;
+        }
         if !(is_file && RUN_FILES.contains(&name.as_str())) {
             return Err(refuse(format!(
                 "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
-                 empty directory, or a directory holding only {})",
-                RUN_FILES.join(", ")
+                 empty directory, or a directory holding only {} and a folder `{}` of sat-*.oem files)",
+                RUN_FILES.join(", "),
+                oem::RUN_DIR_NAME
             )));
         }
         found.push(name);
@@ -151,6 +177,10 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
             let path = dir.join(name);
             std::fs::remove_file(&path).map_err(|e| output_error(&path, e))?;
         }
+    }
+    if oem_folder {
+        let path = dir.join(oem::RUN_DIR_NAME);
+        std::fs::remove_dir_all(&path).map_err(|e| output_error(&path, e))?;
     }
     Ok(())
 }
@@ -330,7 +360,24 @@ pub fn run_scenario_with(
     let text = serde_json::to_string_pretty(&summary).expect("the summary serialises");
     std::fs::write(&path, text + "\n").map_err(|e| output_error(&path, e))?;
     outcome?;
+    if scenario.file.output.oem {
+        write_oem(out_dir)?;
+    }
     Ok(summary)
+}
+
+/// `[output] oem = true`: writes `swarm.oem` from the finished run's directory.
+fn write_oem(out_dir: &Path) -> Result<(), RunError> {
+    let fail = |path: String, message: String| RunError::Output { path, message };
+    let file = out_dir.join(oem::RUN_FILE);
+    let creation = oem::creation_date().map_err(|m| fail(file.display().to_string(), m))?;
+    let run = RunData::read(out_dir).map_err(|e| fail(e.path, e.message))?;
+    match oem::write_run_oem(&run, &OemLayout::OneFile(file.clone()), creation) {
+        Ok(_) => Ok(()),
+        Err(ExportError::Input(e)) => Err(fail(e.path, e.message)),
+        Err(ExportError::Output { path, message }) => Err(fail(path, message)),
+        Err(e @ ExportError::Option { .. }) => Err(fail(file.display().to_string(), e.to_string())),
+    }
 }
 
 /// The warnings of a run: collisions (largest simultaneous count, smallest separation) and satellites

@@ -4,7 +4,6 @@
 //! `--fail-on-collision`), 2 bad arguments or input, 130 / 143 a run interrupted by SIGINT / SIGTERM
 //! (its files closed and `summary.json` written with status `interrupted`).
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -20,11 +19,16 @@ use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{
     hill_to_gao, CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame, Vector3,
 };
+use satflock::output::export::write_whole;
+use satflock::output::oem::{self, OemMessage, OemObject};
 use satflock::output::OutputFormat;
+use satflock::output::{frames, InertialTrack};
 use satflock::propagate::{propagate, PropagationSettings};
 use satflock::run::{run_scenario_with, RunError, RunOptions};
 use satflock::scenario::{builtin, Scenario};
 use satflock::swarm::SimError;
+
+mod export;
 
 #[derive(Parser)]
 #[command(
@@ -97,9 +101,14 @@ enum Command {
         #[arg(long)]
         time_s: Option<f64>,
     },
-    /// Propagate one orbit (no control) and write its states to CSV.
+    /// Propagate one orbit (no control) and write its states to CSV (and, with --oem, a CCSDS OEM).
     #[command(allow_negative_numbers = true)]
     Propagate(PropagateArgs),
+    /// Export a run directory's trajectory: `oem` (CCSDS OEM 2.0) or `czml` (CesiumJS).
+    Export {
+        #[command(subcommand)]
+        format: export::ExportCommand,
+    },
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
     /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi` (see `satflock validate
     /// --list`).
@@ -217,6 +226,13 @@ struct PropagateArgs {
     /// Output CSV file (written only if the propagation succeeds).
     #[arg(long)]
     out: PathBuf,
+    /// Also write the orbit as a CCSDS OEM 2.0 file (EME2000, km and km/s, UTC epochs from
+    /// --epoch-utc); needs --frame inertial.
+    #[arg(long)]
+    oem: Option<PathBuf>,
+    /// The instant of t = 0 (ISO 8601 UTC), for the OEM's epochs.
+    #[arg(long, default_value = satflock::time::DEFAULT_EPOCH_UTC)]
+    epoch_utc: String,
 }
 
 /// Largest `--threads`.
@@ -249,6 +265,7 @@ impl std::fmt::Display for UsageError {
 
 impl std::error::Error for UsageError {}
 
+/// An error in the user's input (exit code 2).
 fn usage(message: impl Into<String>) -> anyhow::Error {
     UsageError(message.into()).into()
 }
@@ -312,6 +329,7 @@ fn main() -> ExitCode {
         },
         Command::Characterize { positions, time_s } => characterize::run(&positions, time_s),
         Command::Propagate(args) => propagate_command(&args),
+        Command::Export { format } => export::export_command(format),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
     };
     match result {
@@ -557,14 +575,40 @@ fn orbit(flag: &str, text: &str, by_elements: bool, mu: f64) -> Result<Cartesian
     }
 }
 
+/// The command-line spelling of an option's value (`two-body`, `rk78`).
+fn arg_name(value: impl ValueEnum) -> String {
+    value
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_string())
+}
+
 fn propagate_command(args: &PropagateArgs) -> Result<()> {
-    if args.out.is_dir() {
+    for (option, path, example) in [
+        ("--out", Some(&args.out), "orbit.csv"),
+        ("--oem", args.oem.as_ref(), "orbit.oem"),
+    ] {
+        if let Some(path) = path.filter(|p| p.is_dir()) {
+            return Err(usage(format!(
+                "{option} {}: is a directory (allowed: a file path, e.g. {})",
+                path.display(),
+                path.join(example).display()
+            )));
+        }
+    }
+    if args.oem.as_ref() == Some(&args.out) {
         return Err(usage(format!(
-            "--out {}: is a directory (allowed: a file path, e.g. {})",
-            args.out.display(),
-            args.out.join("orbit.csv").display()
+            "--oem {}: is also the --out file (allowed: another path)",
+            args.out.display()
         )));
     }
+    if args.oem.is_some() && args.frame != FrameArg::Inertial {
+        return Err(usage(
+            "--oem needs --frame inertial (an OEM holds inertial EME2000 states; LVLH states are not an \
+             ephemeris)",
+        ));
+    }
+    let epoch = satflock::time::parse_epoch_utc(&args.epoch_utc)
+        .map_err(|m| usage(format!("--epoch-utc: {m}")))?;
     let defaults = EarthModel::WGS84_EGM96;
     let earth = EarthModel {
         mu_m3_s2: args.mu.unwrap_or(defaults.mu_m3_s2),
@@ -639,7 +683,19 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             .map_err(|e| usage(format!("{option}: {e}")))?;
     }
     let mut text = String::from("t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps\n");
+    let mut rows = 0usize;
+    let mut last = (0.0, [0.0; 6]);
+    let mut inertial = InertialTrack {
+        id: 0,
+        t_s: Vec::new(),
+        states: Vec::new(),
+    };
     propagate(&orbits, &settings, |t, states| {
+        if args.oem.is_some() {
+            let (p, v) = (states[0].position_m, states[0].velocity_mps);
+            inertial.t_s.push(t);
+            inertial.states.push([p.x, p.y, p.z, v.x, v.y, v.z]);
+        }
         let (p, v) = match args.frame {
             FrameArg::Inertial => (states[0].position_m, states[0].velocity_mps),
             FrameArg::LvlhHill | FrameArg::LvlhGao => {
@@ -655,28 +711,52 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             "{t},{},{},{},{},{},{}\n",
             p.x, p.y, p.z, v.x, v.y, v.z
         ));
+        rows += 1;
+        last = (t, [p.x, p.y, p.z, v.x, v.y, v.z]);
     })
     .map_err(|e| match e {
         satflock::propagate::PropagateError::InvalidSetting { .. }
         | satflock::propagate::PropagateError::InvalidOrbit { .. } => usage(e.to_string()),
         other => anyhow::Error::from(other),
     })?;
-    // Write to a temporary file beside the target, then rename: no partial file on failure.
-    let tmp = args.out.with_extension("csv.partial");
-    let written = std::fs::File::create(&tmp)
-        .with_context(|| format!("cannot create {}", tmp.display()))
-        .and_then(|mut file| {
-            file.write_all(text.as_bytes())
-                .and_then(|_| file.sync_all())
-                .with_context(|| format!("cannot write {}", tmp.display()))
-        })
-        .and_then(|_| {
-            std::fs::rename(&tmp, &args.out)
-                .with_context(|| format!("cannot write {}", args.out.display()))
-        });
-    if written.is_err() {
-        // Never leave the partial file behind.
-        let _ = std::fs::remove_file(&tmp);
+    // Each file is written whole (a temporary file renamed): no partial file on failure.
+    write_whole(&args.out, text.as_bytes())?;
+    let mut written = args.out.display().to_string();
+    if let Some(path) = &args.oem {
+        let creation_date = oem::creation_date().map_err(usage)?;
+        let message = OemMessage {
+            creation_date,
+            epoch,
+            header_comments: vec![format!(
+                "Written by satflock {} propagate: one orbit, --gravity {}, --integrator {}, \
+                 mu = {} m^3/s^2, Re = {} m, J2 = {}.",
+                env!("CARGO_PKG_VERSION"),
+                arg_name(args.gravity),
+                arg_name(args.integrator),
+                earth.mu_m3_s2,
+                earth.equatorial_radius_m,
+                earth.j2,
+            )],
+            segment_comments: Vec::new(),
+            objects: vec![OemObject {
+                name: "SATELLITE".into(),
+                id: "SATFLOCK-PROPAGATE".into(),
+                track: &inertial,
+            }],
+        };
+        write_whole(path, message.to_kvn().as_bytes())?;
+        written.push_str(&format!(" and {} (OEM)", path.display()));
     }
-    written
+    let frame = match args.frame {
+        FrameArg::Inertial => format!("inertial {}", frames::INERTIAL_FRAME),
+        FrameArg::LvlhHill => "Hill LVLH of the reference orbit".into(),
+        FrameArg::LvlhGao => "Gao LVLH of the reference orbit".into(),
+    };
+    let s = last.1;
+    eprintln!(
+        "propagate: {rows} rows, t = 0 to {} s, written to {written}; final state ({frame}): \
+         r = [{:.3}, {:.3}, {:.3}] m, v = [{:.6}, {:.6}, {:.6}] m/s",
+        last.0, s[0], s[1], s[2], s[3], s[4], s[5]
+    );
+    Ok(())
 }

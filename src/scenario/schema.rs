@@ -517,6 +517,10 @@ pub struct OutputSection {
     /// sizes are refused as a likely unit mistake).
     #[serde(default)]
     pub allow_large: bool,
+    /// Write `swarm.oem` (CCSDS OEM 2.0 of every satellite's inertial states, from `trajectory.csv`)
+    /// after a completed run (default false; needs `trajectory = true`).
+    #[serde(default)]
+    pub oem: bool,
 }
 
 fn default_true() -> bool {
@@ -531,6 +535,7 @@ impl Default for OutputSection {
             tags: BTreeMap::new(),
             delta_v_budget_mps: None,
             allow_large: false,
+            oem: false,
         }
     }
 }

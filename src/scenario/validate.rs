@@ -284,6 +284,12 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             ),
         ));
     }
+    if f.output.oem && !f.output.trajectory {
+        return Err(c.invalid(
+            "output.oem",
+            "true needs output.trajectory = true (the OEM is written from trajectory.csv)",
+        ));
+    }
     // Run and output size: a tiny step or record interval that would run or write far beyond what a
     // user means is refused unless asked for explicitly.
     if !f.output.allow_large {
