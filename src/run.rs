@@ -215,7 +215,14 @@ pub fn run_scenario_with(
         law_outputs: simulation.law_output_names(),
     };
     let epoch = prepared.epoch;
-    Scene::from_config(simulation.config())
+    let scene = Scene {
+        target_formation_lvlh_m: simulation
+            .law()
+            .target_formation_hill_m()
+            .map(|points| points.iter().map(|p| [p.x, p.y, p.z]).collect()),
+        ..Scene::from_config(simulation.config())
+    };
+    scene
         .write(out_dir)
         .map_err(|e| output_error(out_dir, e))?;
     let scenario_path = out_dir.join("scenario.toml");
