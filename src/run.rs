@@ -89,6 +89,11 @@ pub const RUN_FILES: &[&str] = &[
     "scenario.toml",
 ];
 
+/// The sub-directories a previous run may hold, each with the file extensions allowed in it: `plots`
+/// (the figures `satflock run` and `satflock plot` draw). [`prepare_output_dir`] removes them with the
+/// [`RUN_FILES`].
+pub const RUN_DIRS: &[(&str, &[&str])] = &[("plots", &["png", "svg"])];
+
 /// How a run is driven beyond its scenario.
 #[derive(Clone, Debug, Default)]
 pub struct RunOptions {
@@ -98,8 +103,9 @@ pub struct RunOptions {
 }
 
 /// Makes `dir` ready for a run: creates it if needed; if it exists, it must be a directory holding
-/// nothing but a previous run's files ([`RUN_FILES`]), which are removed (`summary.json` first, so a
-/// run killed later never leaves an old summary beside new CSV files). Anything else is refused with
+/// nothing but a previous run's files ([`RUN_FILES`]) and sub-directories ([`RUN_DIRS`], holding only
+/// files with their extensions), which are removed (`summary.json` first, so a run killed later never
+/// leaves an old summary beside new CSV files). Anything else is refused with
 /// [`RunError::OutputDirectory`], and nothing is removed.
 pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
     let refuse = |message: String| RunError::OutputDirectory {
@@ -122,19 +128,44 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
         )),
         Ok(_) => {}
     }
+    let allowed = || {
+        let dirs: Vec<String> = RUN_DIRS
+            .iter()
+            .map(|(d, ext)| format!("{d}/ (only .{} files)", ext.join(", .")))
+            .collect();
+        format!("{}, {}", RUN_FILES.join(", "), dirs.join(", "))
+    };
     let mut found = Vec::new();
+    let mut found_dirs = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
         let entry = entry.map_err(|e| output_error(dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
-        if !(is_file && RUN_FILES.contains(&name.as_str())) {
-            return Err(refuse(format!(
-                "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
-                 empty directory, or a directory holding only {})",
-                RUN_FILES.join(", ")
-            )));
+        let file_type = entry
+            .file_type()
+            .map_err(|e| output_error(&entry.path(), e))?;
+        if file_type.is_file() && RUN_FILES.contains(&name.as_str()) {
+            found.push(name);
+            continue;
         }
-        found.push(name);
+        let run_dir = RUN_DIRS.iter().find(|(d, _)| *d == name);
+        if let (true, Some((_, extensions))) = (file_type.is_dir(), run_dir) {
+            if let Some(foreign) = foreign_entry(&entry.path(), extensions)
+                .map_err(|e| output_error(&entry.path(), e))?
+            {
+                return Err(refuse(format!(
+                    "is not empty and not a previous satflock run: it holds `{name}/{foreign}` \
+                     (allowed: a new path, an empty directory, or a directory holding only {})",
+                    allowed()
+                )));
+            }
+            found_dirs.push(name);
+            continue;
+        }
+        return Err(refuse(format!(
+            "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
+             empty directory, or a directory holding only {})",
+            allowed()
+        )));
     }
     for name in RUN_FILES {
         if found.iter().any(|f| f == name) {
@@ -142,7 +173,30 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
             std::fs::remove_file(&path).map_err(|e| output_error(&path, e))?;
         }
     }
+    for name in found_dirs {
+        let path = dir.join(name);
+        std::fs::remove_dir_all(&path).map_err(|e| output_error(&path, e))?;
+    }
     Ok(())
+}
+
+/// The first entry of `dir` that is not a file with one of `extensions` (`None`: there is none).
+fn foreign_entry(dir: &Path, extensions: &[&str]) -> std::io::Result<Option<String>> {
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let path = entry.path();
+        let ours = entry.file_type()?.is_file()
+            && path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| extensions.contains(&e));
+        if !ours {
+            names.push(entry.file_name().to_string_lossy().into_owned());
+        }
+    }
+    names.sort();
+    Ok(names.into_iter().next())
 }
 
 /// Refuses output keys the scenario validation does not cover: `[output] delta_v_budget_mps` must be
@@ -222,9 +276,7 @@ pub fn run_scenario_with(
             .map(|points| points.iter().map(|p| [p.x, p.y, p.z]).collect()),
         ..Scene::from_config(simulation.config())
     };
-    scene
-        .write(out_dir)
-        .map_err(|e| output_error(out_dir, e))?;
+    scene.write(out_dir).map_err(|e| output_error(out_dir, e))?;
     let scenario_path = out_dir.join("scenario.toml");
     let scenario_text = toml::to_string(&scenario.file).map_err(|e| RunError::Output {
         path: scenario_path.display().to_string(),
@@ -375,8 +427,18 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("summary.json"), "{}").unwrap();
         std::fs::write(dir.join("metrics.csv"), "t_s\n").unwrap();
+        std::fs::create_dir(dir.join("plots")).unwrap();
+        std::fs::write(dir.join("plots/trajectories.png"), "png").unwrap();
+        std::fs::write(dir.join("plots/trajectories.svg"), "svg").unwrap();
         prepare_output_dir(&dir).unwrap();
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        // A plots folder holding something else is not a previous run's.
+        std::fs::create_dir(dir.join("plots")).unwrap();
+        std::fs::write(dir.join("plots/notes.txt"), "mine").unwrap();
+        let e = prepare_output_dir(&dir).unwrap_err();
+        assert!(e.to_string().contains("plots/notes.txt"), "{e}");
+        assert!(dir.join("plots/notes.txt").exists());
+        std::fs::remove_dir_all(dir.join("plots")).unwrap();
         std::fs::write(dir.join("notes.txt"), "mine").unwrap();
         std::fs::write(dir.join("summary.json"), "{}").unwrap();
         let e = prepare_output_dir(&dir).unwrap_err();

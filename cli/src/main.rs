@@ -61,6 +61,15 @@ enum Command {
         /// summary.json's `warnings`, and the run exits 0).
         #[arg(long)]
         fail_on_collision: bool,
+        /// Do not draw the figures into OUT/plots/ after the run (`satflock plot OUT` draws them later).
+        #[arg(long)]
+        no_plots: bool,
+    },
+    /// Draw the figures of a run directory into RUN_DIR/plots/ (PNG and SVG): trajectories and
+    /// snapshots in Hill LVLH, metrics over time, delta-v. `satflock run` draws them too.
+    Plot {
+        /// A run's output directory (as written by `satflock run`).
+        run_dir: PathBuf,
     },
     /// List the built-in scenarios.
     Scenarios,
@@ -217,13 +226,16 @@ fn main() -> ExitCode {
             threads,
             quiet,
             fail_on_collision,
+            no_plots,
         } => run(
             &scenario,
             &out,
             threads.map(usize::from),
             quiet,
             fail_on_collision,
+            !no_plots,
         ),
+        Command::Plot { run_dir } => plot_command(&run_dir),
         Command::Scenarios => {
             scenarios();
             Ok(())
@@ -271,6 +283,7 @@ fn run(
     threads: Option<usize>,
     quiet: bool,
     fail_on_collision: bool,
+    plots: bool,
 ) -> Result<()> {
     let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
     // Validate before anything is created on disk.
@@ -308,6 +321,19 @@ fn run(
     };
     let outcome = pool.install(|| run_scenario_with(&scenario, out, &options, &mut progress));
     bar.finish_and_clear();
+    // The figures, also of a run that stopped, from whatever it wrote (not when nothing was written).
+    let wrote = match &outcome {
+        Ok(_) => true,
+        Err(RunError::Simulation(e)) => !e.is_setup(),
+        Err(_) => false,
+    };
+    if plots && wrote {
+        match satflock_cli::plot::draw_run(out) {
+            Ok(report) if !quiet => eprintln!("{}", report.describe(out)),
+            Ok(_) => {}
+            Err(e) => eprintln!("warning: plots not drawn: {e}"),
+        }
+    }
     match outcome {
         Ok(summary) => {
             for warning in &summary.warnings {
@@ -349,6 +375,15 @@ fn run(
         }
         Err(e) => Err(e.into()),
     }
+}
+
+fn plot_command(dir: &Path) -> Result<()> {
+    let report = satflock_cli::plot::draw_run(dir).map_err(|e| match e {
+        satflock_cli::plot::PlotError::RunData(e) => usage(e.to_string()),
+        other => anyhow::Error::from(other),
+    })?;
+    eprintln!("{}", report.describe(dir));
+    Ok(())
 }
 
 fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {

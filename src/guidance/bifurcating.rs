@@ -252,7 +252,7 @@ impl BifurcatingParameters {
     /// d = the same values). `None` for the filled shapes (no level set) and for shapes with a zero shape
     /// factor (lines, planes: unbounded sets).
     pub fn target_points_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
-        if self.target_set() == TargetSet::Filled || self.factors().iter().any(|f| *f == 0.0) {
+        if self.target_set() == TargetSet::Filled || self.factors().contains(&0.0) {
             return None;
         }
         let offset = self.shape_offset_m();
