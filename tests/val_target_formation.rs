@@ -37,7 +37,10 @@ fn val_gao_circle_target_is_a_ring_of_0_5_km_in_the_orbital_plane() {
     let chord = 2.0 * 500.0 * (2.5f64).to_radians().sin();
     for w in points.windows(2) {
         let d = ((w[0][0] - w[1][0]).powi(2) + (w[0][1] - w[1][1]).powi(2)).sqrt();
-        assert!((d - chord).abs() < 1e-9, "spacing {d} m, expected {chord} m");
+        assert!(
+            (d - chord).abs() < 1e-9,
+            "spacing {d} m, expected {chord} m"
+        );
     }
 }
 
@@ -62,7 +65,10 @@ fn val_gao_sphere_surface_target_lies_on_a_sphere_of_1_km() {
         octants[o] += 1;
     }
     // Spread over the whole surface: every octant holds about an eighth.
-    assert!(octants.iter().all(|&k| (40..=60).contains(&k)), "{octants:?}");
+    assert!(
+        octants.iter().all(|&k| (40..=60).contains(&k)),
+        "{octants:?}"
+    );
 }
 
 #[test]
@@ -72,7 +78,10 @@ fn val_es_e0_target_is_the_rhombus_the_satellites_start_on() {
     // "satellites at rest on their nodes": the scenario lists the start states.
     assert_eq!(nodes.len(), sim.states_hill().len());
     for (node, state) in nodes.iter().zip(sim.states_hill()) {
-        assert!((node - state.position_m).norm() < 1e-12, "{node} vs {state:?}");
+        assert!(
+            (node - state.position_m).norm() < 1e-12,
+            "{node} vs {state:?}"
+        );
     }
     // Rhombus of side 6 m: nodes 0 and 1 on the x axis, 2 and 3 on the y axis, every side 6 m.
     for (i, j) in [(0, 2), (2, 1), (1, 3), (3, 0)] {
