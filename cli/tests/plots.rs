@@ -214,6 +214,26 @@ fn val_plots_of_an_obstacle_run_show_the_obstacles() {
 }
 
 #[test]
+fn val_large_swarms_show_an_evenly_spaced_subsample_and_say_so() {
+    let dir = temp_dir("subsample");
+    let run = run_builtin(
+        &dir,
+        "free-drift",
+        &[
+            ("count = 50", "count = 450"),
+            ("duration_s = 5800.0", "duration_s = 40.0"),
+        ],
+    );
+    draw_run(&run).unwrap();
+    let svg = std::fs::read_to_string(run.join("plots/trajectories.svg")).unwrap();
+    assert!(svg.contains("200 of 450 satellites shown (evenly spaced ids)"));
+    // 200 start and 200 end markers per panel, three panels, and the legend's two (plotters writes a
+    // circle per marker).
+    assert_eq!(svg.matches("<circle").count(), 3 * 2 * 200 + 2);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn val_cli_draws_after_runs_skips_with_no_plots_and_refuses_other_directories() {
     let dir = temp_dir("cli");
     let out = dir.join("out");

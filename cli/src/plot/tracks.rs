@@ -41,6 +41,9 @@ const PROJECTIONS: [(usize, usize, &str); 3] = [
     (0, 2, "x–z plane"),
 ];
 
+/// Most target-formation points drawn (evenly spaced by index beyond).
+pub const MAX_TARGET_POINTS: usize = 1000;
+
 /// Points drawn per obstacle or danger-sphere outline.
 const CIRCLE_POINTS: usize = 96;
 
@@ -160,6 +163,42 @@ impl Tracks {
     /// Every position of every drawn track.
     fn points(&self) -> impl Iterator<Item = &[f64; 3]> {
         self.drawn.iter().flat_map(|t| t.p.iter())
+    }
+}
+
+/// The target formation as drawn: all of `scene.json`'s points, or an evenly spaced subsample.
+pub(crate) struct Targets {
+    /// Drawn points, Hill LVLH \[m\].
+    points: Vec<[f64; 3]>,
+    /// Points in `scene.json`.
+    total: usize,
+}
+
+impl Targets {
+    /// The target formation of a run's scene (`None` when it has none).
+    pub fn of(scene: &satflock::output::Scene) -> Option<Self> {
+        let all = scene.target_formation_lvlh_m.as_deref()?;
+        let total = all.len();
+        let points = if total > MAX_TARGET_POINTS {
+            (0..MAX_TARGET_POINTS)
+                .map(|k| all[k * total / MAX_TARGET_POINTS])
+                .collect()
+        } else {
+            all.to_vec()
+        };
+        Some(Self { points, total })
+    }
+
+    fn legend(&self) -> String {
+        if self.points.len() < self.total {
+            format!(
+                "target formation (law at t = 0; {} of {} points)",
+                self.points.len(),
+                self.total
+            )
+        } else {
+            "target formation (law at t = 0)".into()
+        }
     }
 }
 
@@ -314,7 +353,7 @@ const OBSTACLE_COLOUR: RGBColor = RGBColor(150, 90, 30);
 
 /// What one projection panel shows besides the tracks.
 struct Scene<'a> {
-    targets: Option<&'a [[f64; 3]]>,
+    targets: Option<&'a Targets>,
     obstacles: &'a [SceneObstacle],
     threats: Vec<ThreatMark<'a>>,
     /// Time span of the threat lines \[s\].
@@ -324,7 +363,7 @@ struct Scene<'a> {
 impl Scene<'_> {
     /// Adds what must be inside the panel (targets, obstacles, danger spheres) to `bounds`.
     fn bound(&self, bounds: &mut Bounds, h: usize, v: usize) {
-        for p in self.targets.unwrap_or_default() {
+        for p in self.targets.map_or(&[][..], |t| &t.points) {
             bounds.add(p[h], p[v]);
         }
         for o in self.obstacles {
@@ -406,12 +445,13 @@ impl Scene<'_> {
         if let Some(targets) = self.targets {
             let series = chart.draw_series(
                 targets
+                    .points
                     .iter()
                     .map(|p| Cross::new((p[h], p[v]), 4, TARGET_COLOUR.stroke_width(1))),
             )?;
             if labelled {
                 series
-                    .label("target formation (law at t = 0)")
+                    .label(targets.legend())
                     .legend(|(x, y)| Cross::new((x + 10, y), 4, TARGET_COLOUR.stroke_width(1)));
             }
         }
@@ -423,18 +463,23 @@ impl Scene<'_> {
 pub(crate) struct Trajectories<'a> {
     context: &'a RunContext<'a>,
     tracks: &'a Tracks,
+    targets: Option<Targets>,
 }
 
 impl<'a> Trajectories<'a> {
     /// The figure of a run's tracks.
     pub fn new(context: &'a RunContext<'a>, tracks: &'a Tracks) -> Self {
-        Self { context, tracks }
+        Self {
+            context,
+            tracks,
+            targets: Targets::of(&context.run.scene),
+        }
     }
 
-    fn scene(&self) -> Scene<'a> {
+    fn scene(&self) -> Scene<'_> {
         let scene = &self.context.run.scene;
         Scene {
-            targets: scene.target_formation_lvlh_m.as_deref(),
+            targets: self.targets.as_ref(),
             obstacles: &scene.obstacles,
             threats: scene
                 .threats
@@ -525,6 +570,7 @@ pub(crate) struct Snapshots<'a> {
     first_event_s: f64,
     /// Horizontal and vertical axes (Hill components).
     plane: (usize, usize),
+    targets: Option<Targets>,
 }
 
 impl<'a> Snapshots<'a> {
@@ -537,6 +583,7 @@ impl<'a> Snapshots<'a> {
             tracks,
             times: snapshot_times(&tracks.times, &events, &context.time),
             first_event_s,
+            targets: Targets::of(&context.run.scene),
             plane: main_plane(tracks),
         }
     }
@@ -666,7 +713,7 @@ impl Figure for Snapshots<'_> {
             bounds.add(p[h], p[v]);
         }
         Scene {
-            targets: scene.target_formation_lvlh_m.as_deref(),
+            targets: self.targets.as_ref(),
             obstacles: &scene.obstacles,
             threats: Vec::new(),
             threat_span_s: (0.0, 0.0),
@@ -696,10 +743,7 @@ impl Figure for Snapshots<'_> {
                 .collect();
             let before_events = *t < self.first_event_s;
             Scene {
-                targets: scene
-                    .target_formation_lvlh_m
-                    .as_deref()
-                    .filter(|_| before_events),
+                targets: self.targets.as_ref().filter(|_| before_events),
                 obstacles: &scene.obstacles,
                 threats,
                 threat_span_s: (*t, *t),
