@@ -4,11 +4,11 @@
 //!
 //! | figure | from | module |
 //! | --- | --- | --- |
-//! | `trajectories`: the three plane projections in Hill LVLH, start and end, target formation, threats, obstacles | `trajectory.csv`, `scene.json` | [`tracks`] |
-//! | `snapshots`: the formation in its main plane at t = 0, before each event and at the end | `trajectory.csv`, `scene.json`, `scenario.toml` | [`tracks`] |
-//! | `swarm_metrics`: five elements, minimum separation, threat and obstacle monitors over time | `metrics.csv` | [`series`] |
-//! | `law_metrics`: every metric column of the law(s) | `metrics.csv` | [`series`] |
-//! | `delta_v`: Δv per satellite, cumulative mean and max over time | `summary.json`, `metrics.csv` | [`delta_v`] |
+//! | `trajectories`: the three plane projections in Hill LVLH, start and end, target formation, threats, obstacles | `trajectory.csv`, `scene.json` | `tracks.rs` |
+//! | `snapshots`: the formation in its main plane at t = 0, before each event and at the end | `trajectory.csv`, `scene.json`, `scenario.toml` | `tracks.rs` |
+//! | `swarm_metrics`: five elements, minimum separation, threat and obstacle monitors over time | `metrics.csv` | `series.rs` |
+//! | `law_metrics`: every metric column of the law(s) | `metrics.csv` | `series.rs` |
+//! | `delta_v`: Δv per satellite, cumulative mean and max over time | `summary.json`, `metrics.csv` | `delta_v.rs` |
 //!
 //! Output is deterministic (same run directory, same bytes): no timestamps, tracks in id order, a fixed
 //! embedded font (DejaVu Sans, `cli/assets/fonts/`, drawn by `ab_glyph` without system font libraries).
@@ -60,7 +60,7 @@ pub enum PlotError {
 
 /// A drawing error inside one figure (turned into [`PlotError::Write`] naming the file).
 #[derive(Debug)]
-pub struct DrawError(String);
+pub(crate) struct DrawError(String);
 
 impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for DrawError {
     fn from(e: DrawingAreaErrorKind<E>) -> Self {
