@@ -37,8 +37,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scenario (a TOML file or a built-in name) and write summary.json, metrics.csv and
-    /// trajectory.csv into the output directory.
+    /// Run a scenario (a TOML file or a built-in name) and write summary.json, metrics.csv,
+    /// trajectory.csv, scene.json and scenario.toml into the output directory, then draw its figures
+    /// into OUT/plots/ (unless --no-plots).
     ///
     /// SIGINT or SIGTERM stops the run after the current step: the files are closed, summary.json says
     /// `interrupted`, and the exit code is 130 or 143 (a second signal exits at once).

@@ -117,7 +117,8 @@ impl Tracks {
         let mut times = BTreeSet::new();
         for row in 0..table.rows() {
             let p = [xyz[0][row], xyz[1][row], xyz[2][row]];
-            if !(t[row].is_finite() && p.iter().all(|v| v.is_finite())) {
+            let valid = t[row].is_finite() && id[row].is_finite() && id[row] >= 0.0;
+            if !(valid && p.iter().all(|v| v.is_finite())) {
                 continue;
             }
             times.insert(t[row].to_bits());
