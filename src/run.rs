@@ -100,21 +100,12 @@ pub const RUN_FILES: &[&str] = &[
     czml::RUN_FILE,
 ];
 
-/// Whether `dir` is a folder of per-satellite OEM files a previous export wrote: named
-/// [`oem::RUN_DIR_NAME`] and holding only `sat-*.oem` files.
-fn is_oem_folder(dir: &Path) -> std::io::Result<bool> {
-    if dir.file_name().is_none_or(|n| n != oem::RUN_DIR_NAME) {
-        return Ok(false);
-    }
-    for entry in std::fs::read_dir(dir)? {
-        let entry = entry?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if !(entry.file_type()?.is_file() && name.starts_with("sat-") && name.ends_with(".oem")) {
-            return Ok(false);
-        }
-    }
-    Ok(true)
-}
+/// The sub-directories a previous run may hold, each with the file extensions allowed in it: `plots`
+/// (the figures `satflock run` and `satflock plot` draw) and [`oem::RUN_DIR_NAME`] (per-satellite OEM
+/// files of `satflock export oem --per-satellite`). [`prepare_output_dir`] removes them with the
+/// [`RUN_FILES`].
+pub const RUN_DIRS: &[(&str, &[&str])] =
+    &[("plots", &["png", "svg"]), (oem::RUN_DIR_NAME, &["oem"])];
 
 /// How a run is driven beyond its scenario.
 #[derive(Clone, Debug, Default)]
@@ -128,8 +119,9 @@ pub struct RunOptions {
 }
 
 /// Makes `dir` ready for a run: creates it if needed; if it exists, it must be a directory holding
-/// nothing but a previous run's files ([`RUN_FILES`]), which are removed (`summary.json` first, so a
-/// run killed later never leaves an old summary beside new CSV files). Anything else is refused with
+/// nothing but a previous run's files ([`RUN_FILES`]) and sub-directories ([`RUN_DIRS`], holding only
+/// files with their extensions), which are removed (`summary.json` first, so a run killed later never
+/// leaves an old summary beside new CSV files). Anything else is refused with
 /// [`RunError::OutputDirectory`], and nothing is removed.
 pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
     let refuse = |message: String| RunError::OutputDirectory {
@@ -152,25 +144,44 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
         )),
         Ok(_) => {}
     }
+    let allowed = || {
+        let dirs: Vec<String> = RUN_DIRS
+            .iter()
+            .map(|(d, ext)| format!("{d}/ (only .{} files)", ext.join(", .")))
+            .collect();
+        format!("{}, {}", RUN_FILES.join(", "), dirs.join(", "))
+    };
     let mut found = Vec::new();
-    let mut oem_folder = false;
+    let mut found_dirs = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
         let entry = entry.map_err(|e| output_error(dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
-        let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
-        if !is_file && is_oem_folder(&entry.path()).map_err(|e| output_error(&entry.path(), e))? {
-            oem_folder = true;
+        let file_type = entry
+            .file_type()
+            .map_err(|e| output_error(&entry.path(), e))?;
+        if file_type.is_file() && RUN_FILES.contains(&name.as_str()) {
+            found.push(name);
             continue;
         }
-        if !(is_file && RUN_FILES.contains(&name.as_str())) {
-            return Err(refuse(format!(
-                "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
-                 empty directory, or a directory holding only {} and a folder `{}` of sat-*.oem files)",
-                RUN_FILES.join(", "),
-                oem::RUN_DIR_NAME
-            )));
+        let run_dir = RUN_DIRS.iter().find(|(d, _)| *d == name);
+        if let (true, Some((_, extensions))) = (file_type.is_dir(), run_dir) {
+            if let Some(foreign) = foreign_entry(&entry.path(), extensions)
+                .map_err(|e| output_error(&entry.path(), e))?
+            {
+                return Err(refuse(format!(
+                    "is not empty and not a previous satflock run: it holds `{name}/{foreign}` \
+                     (allowed: a new path, an empty directory, or a directory holding only {})",
+                    allowed()
+                )));
+            }
+            found_dirs.push(name);
+            continue;
         }
-        found.push(name);
+        return Err(refuse(format!(
+            "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
+             empty directory, or a directory holding only {})",
+            allowed()
+        )));
     }
     for name in RUN_FILES {
         if found.iter().any(|f| f == name) {
@@ -178,11 +189,30 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
             std::fs::remove_file(&path).map_err(|e| output_error(&path, e))?;
         }
     }
-    if oem_folder {
-        let path = dir.join(oem::RUN_DIR_NAME);
+    for name in found_dirs {
+        let path = dir.join(name);
         std::fs::remove_dir_all(&path).map_err(|e| output_error(&path, e))?;
     }
     Ok(())
+}
+
+/// The first entry of `dir` that is not a file with one of `extensions` (`None`: there is none).
+fn foreign_entry(dir: &Path, extensions: &[&str]) -> std::io::Result<Option<String>> {
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        let path = entry.path();
+        let ours = entry.file_type()?.is_file()
+            && path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| extensions.contains(&e));
+        if !ours {
+            names.push(entry.file_name().to_string_lossy().into_owned());
+        }
+    }
+    names.sort();
+    Ok(names.into_iter().next())
 }
 
 /// Refuses output keys the scenario validation does not cover: `[output] delta_v_budget_mps` must be
@@ -256,9 +286,14 @@ pub fn run_scenario_with(
         law_outputs: simulation.law_output_names(),
     };
     let epoch = prepared.epoch;
-    Scene::from_config(simulation.config())
-        .write(out_dir)
-        .map_err(|e| output_error(out_dir, e))?;
+    let scene = Scene {
+        target_formation_lvlh_m: simulation
+            .law()
+            .target_formation_hill_m()
+            .map(|points| points.iter().map(|p| [p.x, p.y, p.z]).collect()),
+        ..Scene::from_config(simulation.config())
+    };
+    scene.write(out_dir).map_err(|e| output_error(out_dir, e))?;
     let scenario_path = out_dir.join("scenario.toml");
     let scenario_text = toml::to_string(&scenario.file).map_err(|e| RunError::Output {
         path: scenario_path.display().to_string(),
@@ -440,8 +475,18 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("summary.json"), "{}").unwrap();
         std::fs::write(dir.join("metrics.csv"), "t_s\n").unwrap();
+        std::fs::create_dir(dir.join("plots")).unwrap();
+        std::fs::write(dir.join("plots/trajectories.png"), "png").unwrap();
+        std::fs::write(dir.join("plots/trajectories.svg"), "svg").unwrap();
         prepare_output_dir(&dir).unwrap();
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        // A plots folder holding something else is not a previous run's.
+        std::fs::create_dir(dir.join("plots")).unwrap();
+        std::fs::write(dir.join("plots/notes.txt"), "mine").unwrap();
+        let e = prepare_output_dir(&dir).unwrap_err();
+        assert!(e.to_string().contains("plots/notes.txt"), "{e}");
+        assert!(dir.join("plots/notes.txt").exists());
+        std::fs::remove_dir_all(dir.join("plots")).unwrap();
         std::fs::write(dir.join("notes.txt"), "mine").unwrap();
         std::fs::write(dir.join("summary.json"), "{}").unwrap();
         let e = prepare_output_dir(&dir).unwrap_err();

@@ -1,7 +1,8 @@
 //! The `satflock` command-line tool's library half: the full-length reproduction reports behind
-//! `satflock validate` (and the long regression tests that share their code) and the offline HTML
-//! report of a run directory (`satflock report`). The binary is `src/main.rs`; everything here uses
-//! only the public API of the `satflock` library.
+//! `satflock validate` (and the long regression tests that share their code), the figures of
+//! `satflock plot` and the offline HTML report of a run directory (`satflock report`). The binary is
+//! `src/main.rs`; everything here uses only the public API of the `satflock` library.
 
+pub mod plot;
 pub mod report;
 pub mod validate;

@@ -43,8 +43,9 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scenario (a TOML file or a built-in name) and write summary.json and the metrics and
-    /// trajectory tables (CSV or Parquet) into the output directory.
+    /// Run a scenario (a TOML file or a built-in name) and write summary.json, the metrics and
+    /// trajectory tables (CSV or Parquet), scene.json and scenario.toml into the output directory, then
+    /// draw its figures into OUT/plots/ (unless --no-plots).
     ///
     /// SIGINT or SIGTERM stops the run after the current step: the files are closed, summary.json says
     /// `interrupted`, and the exit code is 130 or 143 (a second signal exits at once).
@@ -75,10 +76,19 @@ enum Command {
         /// wrote its summary (also after a run that stopped).
         #[arg(long)]
         report: bool,
+        /// Do not draw the figures into OUT/plots/ after the run (`satflock plot OUT` draws them later).
+        #[arg(long)]
+        no_plots: bool,
     },
     /// Write RUN_DIR/report.html: one self-contained page (works offline) with the scenario, a summary
     /// table, the plots in RUN_DIR/plots/ and an animated 3-D view of the swarm in Hill LVLH.
     Report {
+        /// A run's output directory (as written by `satflock run`).
+        run_dir: PathBuf,
+    },
+    /// Draw the figures of a run directory into RUN_DIR/plots/ (PNG and SVG): trajectories and
+    /// snapshots in Hill LVLH, metrics over time, delta-v. `satflock run` draws them too.
+    Plot {
         /// A run's output directory (as written by `satflock run`).
         run_dir: PathBuf,
     },
@@ -281,6 +291,7 @@ fn main() -> ExitCode {
             fail_on_collision,
             report,
             format,
+            no_plots,
         } => {
             let outcome = run(
                 &scenario,
@@ -292,6 +303,7 @@ fn main() -> ExitCode {
                     FormatArg::Csv => OutputFormat::Csv,
                     FormatArg::Parquet => OutputFormat::Parquet,
                 }),
+                !no_plots,
             );
             // A run that started (completed, stopped or interrupted) has valid files and a summary;
             // refused input never touched the directory.
@@ -311,6 +323,7 @@ fn main() -> ExitCode {
             }
         }
         Command::Report { run_dir } => report_command(&run_dir, false),
+        Command::Plot { run_dir } => plot_command(&run_dir),
         Command::Scenarios { action: None } => {
             scenarios();
             Ok(())
@@ -372,6 +385,7 @@ fn run(
     quiet: bool,
     fail_on_collision: bool,
     format: Option<OutputFormat>,
+    plots: bool,
 ) -> Result<()> {
     let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
     // Validate before anything is created on disk.
@@ -410,6 +424,19 @@ fn run(
     };
     let outcome = pool.install(|| run_scenario_with(&scenario, out, &options, &mut progress));
     bar.finish_and_clear();
+    // The figures, also of a run that stopped, from whatever it wrote (not when nothing was written).
+    let wrote = match &outcome {
+        Ok(_) => true,
+        Err(RunError::Simulation(e)) => !e.is_setup(),
+        Err(_) => false,
+    };
+    if plots && wrote {
+        match satflock_cli::plot::draw_run(out) {
+            Ok(report) if !quiet => eprintln!("{}", report.describe(out)),
+            Ok(_) => {}
+            Err(e) => eprintln!("warning: plots not drawn: {e}"),
+        }
+    }
     match outcome {
         Ok(summary) => {
             for warning in &summary.warnings {
@@ -463,6 +490,15 @@ fn report_command(dir: &Path, quiet: bool) -> Result<()> {
     if !quiet {
         eprintln!("report: {}", path.display());
     }
+    Ok(())
+}
+
+fn plot_command(dir: &Path) -> Result<()> {
+    let report = satflock_cli::plot::draw_run(dir).map_err(|e| match e {
+        satflock_cli::plot::PlotError::RunData(e) => usage(e.to_string()),
+        other => anyhow::Error::from(other),
+    })?;
+    eprintln!("{}", report.describe(dir));
     Ok(())
 }
 

@@ -47,6 +47,12 @@ pub const REGULARISATION_M: f64 = 1e-3;
 /// (method page §6, O6: "max radial error and |y| below 5 % of r").
 pub const SHAPE_REACHED_FRACTION: f64 = 0.05;
 
+/// Points per target ring of a 2-D shape in [`BifurcatingParameters::target_points_hill_m`] (one every 5°).
+pub const TARGET_RING_POINTS: usize = 72;
+
+/// Points per target surface of a 3-D shape in [`BifurcatingParameters::target_points_hill_m`].
+pub const TARGET_SURFACE_POINTS: usize = 400;
+
 /// Which potential: the in-plane one with an out-of-plane well, or the stereo one.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Dimension {
@@ -237,6 +243,53 @@ impl BifurcatingParameters {
         } else {
             TargetSet::LevelSets
         }
+    }
+
+    /// Points on the stable level sets the formation term drives satellites to, Hill frame relative to the
+    /// formation centre \[m\]: [`TARGET_RING_POINTS`] evenly spaced in angle on each ring or ellipse of
+    /// the 2-D potential (ρ = a·b·r for μ < 0; ρ = a·b·r ± μ, or ρ = μ when r = 0, for μ > 0), or
+    /// [`TARGET_SURFACE_POINTS`] on each ellipsoid of the 3-D potential (a Fibonacci lattice mapped to
+    /// d = the same values). `None` for the filled shapes (no level set) and for shapes with a zero shape
+    /// factor (lines, planes: unbounded sets).
+    pub fn target_points_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        if self.target_set() == TargetSet::Filled || self.factors().contains(&0.0) {
+            return None;
+        }
+        let offset = self.shape_offset_m();
+        let levels: Vec<f64> = match (self.mu_m > 0.0, offset > 0.0) {
+            (false, _) => vec![offset],
+            (true, true) => vec![offset - self.mu_m, offset + self.mu_m],
+            (true, false) => vec![self.mu_m],
+        };
+        let (a, b, c) = (self.a, self.b, self.c);
+        let mut points = Vec::new();
+        for rho in levels {
+            match self.dimension {
+                Dimension::Planar => {
+                    for k in 0..TARGET_RING_POINTS {
+                        let theta = std::f64::consts::TAU * k as f64 / TARGET_RING_POINTS as f64;
+                        let q = Vector3::new(rho / b * theta.cos(), 0.0, rho / a * theta.sin());
+                        points.push(gao_to_hill(&q));
+                    }
+                }
+                Dimension::Spatial => {
+                    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+                    let n = TARGET_SURFACE_POINTS as f64;
+                    for k in 0..TARGET_SURFACE_POINTS {
+                        let uz = 1.0 - (2.0 * k as f64 + 1.0) / n;
+                        let r = (1.0 - uz * uz).sqrt();
+                        let phi = golden * k as f64;
+                        let q = Vector3::new(
+                            rho * r * phi.cos() / (b * c),
+                            rho * r * phi.sin() / (a * c),
+                            rho * uz / (a * b),
+                        );
+                        points.push(gao_to_hill(&q));
+                    }
+                }
+            }
+        }
+        Some(points)
     }
 
     /// Formation potential U_f at Gao position `q_gao_m` \[m\], in joules (method page §3.4).
@@ -508,6 +561,11 @@ impl GuidanceLaw for Bifurcating {
         values[0] = error.max_residual_m.unwrap_or(f64::NAN);
         values[1] = error.max_out_of_plane_m;
         values[2] = reached.map_or(f64::NAN, |r| if r { 1.0 } else { 0.0 });
+    }
+
+    /// The stable level sets of the current shape ([`BifurcatingParameters::target_points_hill_m`]).
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        self.parameters.target_points_hill_m()
     }
 
     /// Largest |root| of m s² + k_v s + K = 0, K = the formation stiffness over the occupied region plus

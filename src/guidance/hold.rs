@@ -131,6 +131,15 @@ impl GuidanceLaw for Hold {
         Ok(())
     }
 
+    /// Every satellite's slot (once the law has started).
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        (!self.start_positions_hill_m.is_empty()).then(|| {
+            (0..self.start_positions_hill_m.len())
+                .map(|id| self.slot_hill_m(id))
+                .collect()
+        })
+    }
+
     /// Largest |root| of s² + k_d s + k_p = 0.
     fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
         let (kp, kd) = (

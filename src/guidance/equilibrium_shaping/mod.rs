@@ -509,6 +509,11 @@ impl GuidanceLaw for EquilibriumShaping {
         values[3..6].copy_from_slice(&counts);
     }
 
+    /// The nodes ξ_i (satellite i ↔ node i).
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        Some(self.tables.nodes_m.clone())
+    }
+
     /// `es_strategy`, `es_formation`, `es_nodes_hill_m`, the Eq. 4 attractions (`es_pair_attraction`, up
     /// to [`MAX_LISTED_NODES`] nodes) or the ES solution (`es_avoid`: coefficients, residual, rank,
     /// condition number, warnings),

@@ -55,6 +55,7 @@ trait ErasedLaw: Send + Sync {
     fn centralised_due(&self, time_s: f64) -> bool;
     fn centralised_update(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError>;
     fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value>;
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>>;
     fn as_any(&self) -> &dyn Any;
 }
 
@@ -174,6 +175,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         self.law.results(swarm, &self.current)
     }
 
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        self.law.target_formation_hill_m()
+    }
+
     fn as_any(&self) -> &dyn Any {
         &self.law
     }
@@ -226,6 +231,12 @@ impl Law {
     /// Names of the law's metrics ([`GuidanceLaw::metric_names`]).
     pub fn metric_names(&self) -> &'static [&'static str] {
         self.0.metric_names()
+    }
+
+    /// The formation the law steers to, Hill frame relative to the LVLH origin \[m\]
+    /// ([`GuidanceLaw::target_formation_hill_m`]; `None` when the law has no fixed target points).
+    pub fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        self.0.target_formation_hill_m()
     }
 
     /// The law itself, if it is of type `L` (e.g. to read a law's own results after a run).

@@ -184,6 +184,14 @@ pub trait GuidanceLaw: Send + Sync + 'static {
         Ok(())
     }
 
+    /// The formation the law steers to, as points in the Hill frame relative to the LVLH origin \[m\]:
+    /// one per slot for a law with slots, or points sampled along the target curve or surface of a law
+    /// with a target shape. Read after [`GuidanceLaw::initialise`] (for the run's pictures, `scene.json`).
+    /// Default: none, for laws whose target is not a fixed set of points in the LVLH frame.
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        None
+    }
+
     /// Law-specific results for `summary.json`, from the final swarm and states. Default: none.
     fn results(
         &self,
