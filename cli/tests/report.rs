@@ -252,7 +252,7 @@ fn val_report_embeds_plots_sorted_and_says_when_there_is_no_trajectory() {
     let out = run(
         &dir,
         &SCENARIO.replace("trajectory = true", "trajectory = false"),
-        &[],
+        &["--no-plots"],
     );
     let plots = out.join("plots");
     std::fs::create_dir(&plots).unwrap();
