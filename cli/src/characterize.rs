@@ -13,7 +13,7 @@ use anyhow::Result;
 use satflock::metrics::{five_elements, FiveElementsWorkspace};
 use satflock::output::Table;
 
-use crate::usage;
+use crate::{print_out, usage};
 
 /// Largest file `characterize` reads \[bytes\] (1 GiB).
 pub const MAX_FILE_BYTES: u64 = 1 << 30;
@@ -69,8 +69,7 @@ pub fn run(path: &Path, time_s: Option<f64>) -> Result<()> {
     let mut workspace = FiveElementsWorkspace::new();
     let elements = five_elements(&positions, &velocities, radii.as_deref(), &mut workspace)
         .map_err(|e| usage(format!("{shown}: {e}")))?;
-    println!("{}", serde_json::to_string_pretty(&elements)?);
-    Ok(())
+    print_out(&(serde_json::to_string_pretty(&elements)? + "\n"))
 }
 
 /// The Hill LVLH positions of a trajectory table's rows at the recorded time nearest to `time_s` (or

@@ -276,6 +276,21 @@ impl std::fmt::Display for UsageError {
 impl std::error::Error for UsageError {}
 
 /// An error in the user's input (exit code 2).
+/// Writes `text` to standard output. A reader that closed the pipe early (`satflock scenarios | head`)
+/// has all it wanted: the process ends quietly with exit 0, as Unix filters do, instead of panicking in
+/// `println!`.
+fn print_out(text: &str) -> Result<()> {
+    use std::io::Write as _;
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        other => other.context("cannot write to standard output"),
+    }
+}
+
 fn usage(message: impl Into<String>) -> anyhow::Error {
     UsageError(message.into()).into()
 }
@@ -324,17 +339,11 @@ fn main() -> ExitCode {
         }
         Command::Report { run_dir } => report_command(&run_dir, false),
         Command::Plot { run_dir } => plot_command(&run_dir),
-        Command::Scenarios { action: None } => {
-            scenarios();
-            Ok(())
-        }
+        Command::Scenarios { action: None } => scenarios(),
         Command::Scenarios {
             action: Some(ScenariosAction::Show { name }),
         } => match builtin::find(&name) {
-            Some(b) => {
-                print!("{}", b.toml);
-                Ok(())
-            }
+            Some(b) => print_out(b.toml),
             None => Err(usage(format!(
                 "no built-in scenario `{name}` (built-in: {})",
                 builtin::names().join(", ")
@@ -505,7 +514,7 @@ fn plot_command(dir: &Path) -> Result<()> {
 fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {
     if list {
         for (name, what) in satflock_cli::validate::TARGETS {
-            println!("{name:<12} {what}");
+            print_out(&format!("{name:<12} {what}\n"))?;
         }
         return Ok(());
     }
@@ -515,20 +524,25 @@ fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> 
         other => anyhow::Error::from(other),
     })?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        print_out(&(serde_json::to_string_pretty(&report)? + "\n"))?;
     } else {
-        print!("{}", report.to_markdown());
+        print_out(&report.to_markdown())?;
     }
     Ok(())
 }
 
-fn scenarios() {
+fn scenarios() -> Result<()> {
     for b in builtin::BUILTINS {
         let description = Scenario::from_toml(b.toml, b.name, Path::new("."))
             .map(|s| s.file.description)
             .unwrap_or_default();
-        println!("{:<24} {}", b.name, first_sentence(&description));
+        print_out(&format!(
+            "{:<24} {}\n",
+            b.name,
+            first_sentence(&description)
+        ))?;
     }
+    Ok(())
 }
 
 /// The first sentence of a text: up to the first `. ` that does not follow an abbreviation (`Fig.`,

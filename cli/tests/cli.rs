@@ -409,3 +409,22 @@ fn val_gao_circle_reaches_its_ring_before_1000_s_and_records_the_shape_columns()
     let header = metrics.lines().next().unwrap();
     assert!(header.ends_with("shape_max_residual_m,shape_max_out_of_plane_m,shape_reached"));
 }
+
+/// A reader that closes the pipe early (`satflock scenarios | head -1`) ends satflock quietly with exit
+/// 0, never a panic ("failed printing to stdout").
+#[test]
+fn regress_closed_stdout_pipe_is_not_a_panic() {
+    for args in [&["scenarios"][..], &["scenarios", "show", "gao-circle"]] {
+        let mut child = satflock()
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let output = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert_eq!(output.status.code(), Some(0), "{args:?}: {stderr}");
+    }
+}
