@@ -1,18 +1,7 @@
 //! The command-line tool end to end: outputs, exit codes and what is (not) written on bad input.
 
-use std::path::PathBuf;
-use std::process::Command;
-
-fn satflock() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("satflock-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod common;
+use common::{satflock, scratch_dir};
 
 #[test]
 fn val_propagate_writes_exact_output_times_and_the_documented_header() {

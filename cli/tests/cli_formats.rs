@@ -4,18 +4,10 @@
 //! files `characterize` must refuse without reading them (a device, a file beyond its size cap).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn satflock() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("satflock-formats-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod common;
+use common::{satflock, scratch_dir};
 
 /// A built-in scenario's text with replacements (each must apply), written to `dir/NAME.toml`.
 fn builtin_file(dir: &Path, name: &str, replacements: &[(&str, &str)]) -> PathBuf {

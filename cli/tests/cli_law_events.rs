@@ -2,18 +2,8 @@
 //! loaded, not when the event fires: exit code 2, a message naming the file, the event's key, the control
 //! period and its limit, and nothing written.
 
-use std::path::PathBuf;
-use std::process::Command;
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "satflock-cli-law-events-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod common;
+use common::scratch_dir;
 
 #[test]
 fn val_stiff_gain_set_by_an_event_is_refused_at_load_time() {
@@ -40,7 +30,7 @@ fn val_stiff_gain_set_by_an_event_is_refused_at_load_time() {
     let file = dir.join("stiff-hold.toml");
     std::fs::write(&file, text).unwrap();
     let out = dir.join("out");
-    let output = Command::new(env!("CARGO_BIN_EXE_satflock"))
+    let output = common::satflock()
         .arg("run")
         .arg(&file)
         .arg("--out")

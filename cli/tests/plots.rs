@@ -7,22 +7,20 @@
 //! directory that is not a run's (exit 2).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use satflock::run::run_scenario;
 use satflock::scenario::builtin::BUILTINS;
 use satflock::scenario::Scenario;
 use satflock_cli::plot::draw_run;
 
+mod common;
+use common::satflock;
+
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("satflock-plots-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-fn satflock() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
 }
 
 /// Runs a built-in scenario with some `key = value` lines replaced into `dir/run`.

@@ -4,20 +4,11 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use base64::Engine as _;
 
-fn satflock() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("satflock-report-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod common;
+use common::{satflock, scratch_dir};
 
 /// Six satellites holding their slots for 200 s (21 records), a threat and an obstacle, satellite 2
 /// removed at 100 s; the description holds markup and a template placeholder, which must stay text.
