@@ -227,7 +227,7 @@ pub fn preserve_connectivity(
     for (a, b) in &grouping.edges {
         components.union(local[a], local[b]);
     }
-    let mut candidates: Vec<(f64, (usize, usize), (usize, usize))> = links
+    let mut candidates: Vec<_> = links
         .iter()
         .filter(|&&(a, b)| components.find(a) != components.find(b))
         .map(|&(a, b)| {
