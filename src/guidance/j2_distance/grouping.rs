@@ -211,7 +211,8 @@ pub fn group(
 /// joins two components is added (Kruskal), so that afterwards no component of the link graph is split
 /// by the grouping: the grouping graph has at most as many components as the link graph. Returns the
 /// edges added (swarm indices, j < k, in the order added; empty if the grouping split nothing) and
-/// keeps `grouping.edges` sorted.
+/// keeps `grouping.edges` sorted. Links outside `nodes` and edges between satellites not in `nodes`
+/// are ignored.
 ///
 /// When every pair of nodes is a link, each added edge is the shortest pair between two components, an
 /// edge of the Ŝ-plane Euclidean minimum spanning tree and therefore of the Delaunay triangulation: it
@@ -225,10 +226,13 @@ pub fn preserve_connectivity(
         nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();
     let mut components = Components::new(nodes.len());
     for (a, b) in &grouping.edges {
-        components.union(local[a], local[b]);
+        if let (Some(&i), Some(&j)) = (local.get(a), local.get(b)) {
+            components.union(i, j);
+        }
     }
     let mut candidates: Vec<_> = links
         .iter()
+        .filter(|&&(a, b)| a < nodes.len() && b < nodes.len())
         .filter(|&&(a, b)| components.find(a) != components.find(b))
         .map(|&(a, b)| {
             let (p, q) = (nodes[a].id, nodes[b].id);
@@ -411,6 +415,8 @@ mod tests {
         assert_eq!(g.edges, vec![(0, 1), (2, 3)]);
         let mut links = all_pairs(4);
         links.reverse();
+        // A link outside the nodes is ignored.
+        links.push((1, 4));
         assert_eq!(preserve_connectivity(&nodes, &links, &mut g), vec![(0, 2)]);
         assert_eq!(g.edges, vec![(0, 1), (0, 2), (2, 3)]);
     }
