@@ -120,10 +120,10 @@ enum Command {
         format: export::ExportCommand,
     },
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
-    /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi` (see `satflock validate
-    /// --list`).
+    /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi`, `takahashi-split`
+    /// (see `satflock validate --list`).
     Validate {
-        /// Target name: `core`, `gao`, `pigeon`, `scatter` or `takahashi`.
+        /// Target name: `core`, `gao`, `pigeon`, `scatter`, `takahashi` or `takahashi-split`.
         #[arg(required_unless_present = "list")]
         target: Option<String>,
         /// List the targets.
@@ -514,7 +514,7 @@ fn plot_command(dir: &Path) -> Result<()> {
 fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {
     if list {
         for (name, what) in satflock_cli::validate::TARGETS {
-            print_out(&format!("{name:<12} {what}\n"))?;
+            print_out(&format!("{name:<16} {what}\n"))?;
         }
         return Ok(());
     }

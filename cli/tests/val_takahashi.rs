@@ -1,13 +1,16 @@
 //! Reproduction of Takahashi & Sakai (method page `docs/methods/j2-distance.md`) with the
 //! `j2-distance` law, shortened to fit the test budget: the §4.1 comparison on the linear model (T1–T3
 //! of method page §11.2, 12 h instead of 24 h), a 24 h truth-J2 deployment into plane Θ1 (the early part of
-//! T4–T9 of §11.3; the full 120 h runs are in `satflock validate takahashi`), and the outage experiment
-//! of §8 (switch-off at 1 h, 5 h of free drift).
+//! T4–T9 of §11.3; the full 120 h runs are in `satflock validate takahashi`), the outage experiment
+//! of §8 (switch-off at 1 h, 5 h of free drift), and the connectivity-preserving grouping of §9.6 on
+//! short Θ2 runs (the 20-seed split fraction is in `satflock validate takahashi-split`).
 
 use satflock::guidance::j2_distance::Variant;
+use satflock::scenario::Scenario;
 use satflock_cli::validate::takahashi::{
-    connectable_stats, outage_stats, plane_stats, scenario, traced_run,
+    connectable_stats, outage_stats, plane_stats, scenario, traced_run, TracedRun,
 };
+use satflock_cli::validate::takahashi_split::split_run;
 
 const ORIGIN: usize = 0;
 const RANGE_M: f64 = 1.0;
@@ -165,4 +168,108 @@ fn val_law_metrics_time_series_match_the_summary_at_the_end() {
     assert!(edges[1] > 0.0);
     let c1 = run.metrics.column("ts_max_abs_c1_m").unwrap();
     assert!(c1[0] != c1[2]);
+}
+
+/// `ts-plane-2` from its built-in TOML with `extra` added to its `[law]` table, seed `seed`, `hours`
+/// long, recorded every 10 min.
+fn plane_2(extra: &str, seed: u64, hours: f64) -> Scenario {
+    let builtin = satflock::scenario::builtin::BUILTINS
+        .iter()
+        .find(|b| b.name == "ts-plane-2")
+        .unwrap();
+    let text = builtin
+        .toml
+        .replace("[law]\n", &format!("[law]\n{extra}\n"));
+    let mut s = Scenario::from_toml(&text, "ts-plane-2", std::path::Path::new(".")).unwrap();
+    s.file.seed = seed;
+    s.file.duration_s = hours * 3600.0;
+    s.file.record_interval_s = 600.0;
+    s
+}
+
+/// Every recorded relative state of a traced run, as bits.
+fn state_bits(run: &TracedRun) -> Vec<u64> {
+    run.fine_states
+        .iter()
+        .flatten()
+        .flat_map(|x| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+        .collect()
+}
+
+#[test]
+fn val_preserving_grouping_off_or_idle_is_the_paper_path_bitwise() {
+    // Θ2, seed 1, first hour (no split on this draw): the parameter absent (the paper's Algorithm 1),
+    // `preserve_connectivity = false`, and `true` (which finds nothing to repair here) fly the same
+    // trajectories bit for bit and report the same grouping.
+    let paper = traced_run(&plane_2("", 1, 1.0), 600.0, 0.0).unwrap();
+    assert_eq!(paper.fine_times_s.len(), 7);
+    for extra in [
+        "preserve_connectivity = false",
+        "preserve_connectivity = true",
+    ] {
+        let run = traced_run(&plane_2(extra, 1, 1.0), 600.0, 0.0).unwrap();
+        assert_eq!(run.law["grouping"]["connectivity_repairs"], 0, "{extra}");
+        assert_eq!(state_bits(&run), state_bits(&paper), "{extra}");
+        assert_eq!(run.law["edge_list"], paper.law["edge_list"], "{extra}");
+        assert_eq!(run.law["grouping"], paper.law["grouping"], "{extra}");
+    }
+}
+
+#[test]
+fn val_preserving_grouping_keeps_theta_2_connected_deterministically() {
+    // Seed 5 splits at 1.75 h with the paper's grouping (`validate takahashi`, `validate
+    // takahashi-split`); with the preserving grouping the graph stays connected through 2 h, which
+    // takes repairs (if a change of the initial draws stops seed 5 from splitting, the repair count
+    // below fails: pick a splitting seed from `validate takahashi-split`). The same run on 1 and 2
+    // threads is identical bit for bit.
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| traced_run(&plane_2("preserve_connectivity = true", 5, 2.0), 600.0, 0.0))
+            .unwrap()
+    };
+    let one = on(1);
+    let g = &one.law["grouping"];
+    assert_eq!(g["always_connected"], true, "{g}");
+    assert_eq!(g["max_components"], 1, "{g}");
+    assert!(g["connectivity_repairs"].as_u64().unwrap() >= 1, "{g}");
+    let two = on(2);
+    assert_eq!(state_bits(&one), state_bits(&two));
+    assert_eq!(one.law["edge_list"], two.law["edge_list"]);
+    // The validate report's runner reads the same results (the paper's grouping here: the split).
+    let paper = split_run(5, false, 2.0 * 3600.0).unwrap();
+    assert!(paper.split(), "{paper:?}");
+    assert_eq!(paper.repairs, 0);
+}
+
+#[test]
+fn val_split_campaign_files_describe_the_report_runs() {
+    // campaigns/ts-plane-2-split*.toml rerun `validate takahashi-split` with `satflock campaign`: the
+    // same scenario, seeds, duration and grouping.
+    use satflock_cli::validate::takahashi_split::{DURATION_S, SEEDS};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
+    for (file, preserve) in [
+        ("ts-plane-2-split.toml", false),
+        ("ts-plane-2-split-preserving.toml", true),
+    ] {
+        let text = std::fs::read_to_string(root.join(file)).unwrap();
+        let c: toml::Table = toml::from_str(&text).unwrap();
+        assert_eq!(c["scenario"].as_str(), Some("ts-plane-2"), "{file}");
+        assert_eq!(
+            c["seeds"]["count"].as_integer(),
+            Some(SEEDS as i64),
+            "{file}"
+        );
+        assert_eq!(c["seeds"]["first"].as_integer(), Some(1), "{file}");
+        let set = c["set"].as_table().unwrap();
+        assert_eq!(set["duration_s"].as_float(), Some(DURATION_S), "{file}");
+        assert_eq!(
+            set["law.preserve_connectivity"].as_bool(),
+            Some(preserve),
+            "{file}"
+        );
+        assert_eq!(set.len(), 2, "{file}");
+    }
 }

@@ -7,6 +7,7 @@ pub mod gao;
 pub mod pigeon;
 pub mod scatter;
 pub mod takahashi;
+pub mod takahashi_split;
 
 use std::fmt;
 
@@ -160,6 +161,10 @@ pub const TARGETS: &[(&str, &str)] = &[
         "takahashi",
         "Takahashi & Sakai distance-based stabiliser under J2: §4.1 comparison, §4.2 planes, outages",
     ),
+    (
+        "takahashi-split",
+        "Takahashi & Sakai Θ2 split over 20 seeds (4 h): the paper's grouping vs the connectivity-preserving extension",
+    ),
 ];
 
 /// Runs one target.
@@ -170,6 +175,7 @@ pub fn run(target: &str) -> Result<Report, ValidateError> {
         "pigeon" => pigeon::report(),
         "scatter" => scatter::report(),
         "takahashi" => takahashi::report(),
+        "takahashi-split" => takahashi_split::report(),
         _ => Err(ValidateError::UnknownTarget {
             name: target.to_string(),
             allowed: TARGETS.iter().map(|t| t.0).collect::<Vec<_>>().join(", "),

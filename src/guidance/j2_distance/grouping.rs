@@ -18,6 +18,10 @@
 //! Since every satellite leads, the union does not depend on the leader order (the DT degree ordering of
 //! Algorithm 1 line 4 is therefore not needed). The bounds n̄_{l←f} and "no shared edge" are not
 //! enforced by the printed algorithm, nor here (method page §9.2, §12).
+//!
+//! [`preserve_connectivity`] is an opt-in extension beyond the paper (method page §9.6): after
+//! Algorithm 1 it adds back, shortest first, the links that rejoin pieces of the communication graph the
+//! grouping split.
 
 use delaunator::{triangulate, Point};
 
@@ -200,6 +204,58 @@ pub fn group(
     }
 }
 
+/// Connectivity-preserving grouping (method page §9.6; an extension beyond the paper, off by default in
+/// the law). `links` are the pairs that can communicate (local indices into `nodes`, any order). Every
+/// link whose two ends lie in different components of `grouping.edges` is a candidate; candidates are
+/// taken in ascending Ŝ-plane distance (ties by the pair's satellite indices) and each one that still
+/// joins two components is added (Kruskal), so that afterwards no component of the link graph is split
+/// by the grouping: the grouping graph has at most as many components as the link graph. Returns the
+/// edges added (swarm indices, j < k, in the order added; empty if the grouping split nothing) and
+/// keeps `grouping.edges` sorted. Links outside `nodes` and edges between satellites not in `nodes`
+/// are ignored.
+///
+/// When every pair of nodes is a link, each added edge is the shortest pair between two components, an
+/// edge of the Ŝ-plane Euclidean minimum spanning tree and therefore of the Delaunay triangulation: it
+/// crosses no edge of the grouping.
+pub fn preserve_connectivity(
+    nodes: &[Node],
+    links: &[(usize, usize)],
+    grouping: &mut Grouping,
+) -> Vec<(usize, usize)> {
+    let local: std::collections::HashMap<usize, usize> =
+        nodes.iter().enumerate().map(|(k, n)| (n.id, k)).collect();
+    let mut components = Components::new(nodes.len());
+    for (a, b) in &grouping.edges {
+        if let (Some(&i), Some(&j)) = (local.get(a), local.get(b)) {
+            components.union(i, j);
+        }
+    }
+    let mut candidates: Vec<_> = links
+        .iter()
+        .filter(|&&(a, b)| a < nodes.len() && b < nodes.len())
+        .filter(|&&(a, b)| components.find(a) != components.find(b))
+        .map(|&(a, b)| {
+            let (p, q) = (nodes[a].id, nodes[b].id);
+            (
+                distance(&nodes[a].plane_m, &nodes[b].plane_m),
+                (p.min(q), p.max(q)),
+                (a, b),
+            )
+        })
+        .collect();
+    candidates.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let added: Vec<(usize, usize)> = candidates
+        .into_iter()
+        .filter(|&(_, _, (a, b))| components.union(a, b))
+        .map(|(_, edge, _)| edge)
+        .collect();
+    if !added.is_empty() {
+        grouping.edges.extend(&added);
+        grouping.edges.sort_unstable();
+    }
+    added
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,6 +331,94 @@ mod tests {
             .filter(|&&(a, b)| distance(&nodes[a].plane_m, &nodes[b].plane_m) > 0.75)
             .count();
         assert_eq!(long, 1, "exactly one bridge: {:?}", g.edges);
+    }
+
+    fn count_components(n: usize, edges: &[(usize, usize)]) -> usize {
+        let mut c = Components::new(n);
+        for &(a, b) in edges {
+            c.union(a, b);
+        }
+        (0..n)
+            .map(|i| c.find(i))
+            .collect::<std::collections::BTreeSet<_>>()
+            .len()
+    }
+
+    fn all_pairs(n: usize) -> Vec<(usize, usize)> {
+        (0..n)
+            .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+            .collect()
+    }
+
+    #[test]
+    fn val_preserving_grouping_keeps_the_only_bridge() {
+        // Two 2×3 lattices (spacing 0.5 m) 3 m apart; the far one's ids skip 6, as if satellite 6 had
+        // been removed. By hand: the nearest cross pair is local 5 (1.25, 0.433) – local 6 (3, 0), at
+        // √(1.75² + 0.433²) = 1.803 m; the next ones (2–6, 5–9) are 2 m. Pruning keeps that bridge in
+        // the DT (repair), but it is longer than r_s = 1 m, so Algorithm 1 drops it.
+        let mut nodes = lattice(2, 3, 0.5);
+        nodes.extend(lattice(2, 3, 0.5).into_iter().map(|n| Node {
+            id: n.id + 7,
+            plane_m: [n.plane_m[0] + 3.0, n.plane_m[1]],
+        }));
+        let settings = GroupingSettings {
+            followers_max: 5,
+            range_m: 1.0,
+            prune_length_m: Some(0.75),
+        };
+        let paper = group(&nodes, &settings, |_, _| f64::INFINITY);
+        let local = |id: usize| if id < 6 { id } else { id - 1 };
+        let local_edges = |g: &Grouping| -> Vec<(usize, usize)> {
+            g.edges.iter().map(|&(a, b)| (local(a), local(b))).collect()
+        };
+        assert_eq!(count_components(12, &local_edges(&paper)), 2);
+        // Every pair can communicate: the repair adds exactly the bridge (ids 5 and 7) and reconnects.
+        let mut kept = paper.clone();
+        let added = preserve_connectivity(&nodes, &all_pairs(12), &mut kept);
+        assert_eq!(added, vec![(5, 7)]);
+        assert_eq!(count_components(12, &local_edges(&kept)), 1);
+        let mut expected = paper.edges.clone();
+        expected.push((5, 7));
+        expected.sort_unstable();
+        assert_eq!(kept.edges, expected);
+        // Deterministic: the order of the links does not matter.
+        let mut reversed = paper.clone();
+        let mut links = all_pairs(12);
+        links.reverse();
+        assert_eq!(preserve_connectivity(&nodes, &links, &mut reversed), added);
+        assert_eq!(reversed, kept);
+        // No link between the clusters: the link graph has two components too, nothing is added.
+        let within: Vec<(usize, usize)> = all_pairs(12)
+            .into_iter()
+            .filter(|&(a, b)| (a < 6) == (b < 6))
+            .collect();
+        let mut unchanged = paper.clone();
+        assert!(preserve_connectivity(&nodes, &within, &mut unchanged).is_empty());
+        assert_eq!(unchanged, paper);
+    }
+
+    #[test]
+    fn val_preserving_grouping_breaks_ties_by_index() {
+        // A 1 m × 3 m rectangle: Algorithm 1 keeps the two 1 m sides (r_s = 1 m); the two 3 m sides tie
+        // exactly, and the one with the smaller indices (0–2) rejoins the halves; 1–3 then joins nothing.
+        let nodes: Vec<Node> = [[0.0, 0.0], [0.0, 1.0], [3.0, 0.0], [3.0, 1.0]]
+            .into_iter()
+            .enumerate()
+            .map(|(id, plane_m)| Node { id, plane_m })
+            .collect();
+        let settings = GroupingSettings {
+            followers_max: 5,
+            range_m: 1.0,
+            prune_length_m: None,
+        };
+        let mut g = group(&nodes, &settings, |_, _| f64::INFINITY);
+        assert_eq!(g.edges, vec![(0, 1), (2, 3)]);
+        let mut links = all_pairs(4);
+        links.reverse();
+        // A link outside the nodes is ignored.
+        links.push((1, 4));
+        assert_eq!(preserve_connectivity(&nodes, &links, &mut g), vec![(0, 2)]);
+        assert_eq!(g.edges, vec![(0, 1), (0, 2), (2, 3)]);
     }
 
     #[test]

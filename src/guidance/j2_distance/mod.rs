@@ -6,7 +6,8 @@
 //! [`crate::relative::j2_averaged`]), §5 (plane targets), §6.3 (antisymmetric pair terms), §7.1 (barrier,
 //! clamped), §7.2 (distance function with (ϱ, ς, τ) = (2c₊, 0, 1)), §7.3 (Eq. 15), §7.4 (Eq. 16), §7.6
 //! (gain design from the Laplacian eigenvalues, γ_B cap; or the §4.1 preset), §7.7 (norm saturation
-//! ‖f‖ ≤ f̄), §9 (grouping, [`grouping`]).
+//! ‖f‖ ≤ f̄), §9 (grouping, [`grouping`]), and §9.6, an opt-in extension beyond the paper
+//! (`preserve_connectivity`: the grouping never splits the communication graph).
 //!
 //! Per satellite j, with C_jk the parameters of x_j − x_k (both relative to the LVLH origin, rotating-frame
 //! velocities, Hill frame) and k over j's neighbours in the current edge set that j can sense:
@@ -138,6 +139,12 @@ pub struct J2DistanceParameters {
     /// Add the z-frequency feed-forward (ω_z² − ω_xy²) z_j (method page §5.3; default false).
     #[serde(default)]
     pub z_frequency_feedforward: bool,
+    /// Connectivity-preserving grouping, an extension beyond the paper (method page §9.6; default
+    /// false, the paper's Algorithm 1): after each grouping, add back the shortest links (Ŝ-plane
+    /// distance, satellites within sensing range) that rejoin what the grouping split, so that it has no
+    /// more connected components than the graph of all links in range.
+    #[serde(default)]
+    pub preserve_connectivity: bool,
 }
 
 fn default_k_a() -> f64 {
@@ -373,6 +380,10 @@ struct GroupingStats {
     components: usize,
     /// Time of the first update whose graph was not connected \[s\] (`None` while always connected).
     first_disconnected_s: Option<f64>,
+    /// Updates at which the connectivity-preserving grouping added edges (0 when it is off).
+    connectivity_repairs: usize,
+    /// Edges it added, summed over the updates.
+    connectivity_repair_edges: usize,
 }
 
 /// Swarm-level metrics of one instant (see [`J2Distance::instant_metrics`]).
@@ -695,12 +706,29 @@ impl GuidanceLaw for J2Distance {
                 .then_some(p.prune_factor * 2.0 * d.target_amplitude_m),
         };
         let eps2 = d.model.epsilon_2_rad_s();
-        let result = group(&nodes, &settings, |a, b| {
+        let mut result = group(&nodes, &settings, |a, b| {
             let c = d
                 .model
                 .pair_parameters(&states[nodes[a].id], &states[nodes[b].id]);
             connectable_time_s(c.c1_m, c.c4_m, eps2, p.controllable_range_m)
         });
+        if p.preserve_connectivity {
+            // The communication graph: every pair of live satellites that sense each other (links
+            // up, within sensing range), as local indices.
+            let mut links = Vec::new();
+            for (k, &i) in live.iter().enumerate() {
+                swarm.satellite(i).for_each_neighbour(|nb| {
+                    if nb.id > i {
+                        links.push((k, local[nb.id]));
+                    }
+                });
+            }
+            let added = grouping::preserve_connectivity(&nodes, &links, &mut result);
+            if !added.is_empty() {
+                self.stats.connectivity_repairs += 1;
+                self.stats.connectivity_repair_edges += added.len();
+            }
+        }
         let (lambda_2, lambda_max, components) =
             laplacian_eigenvalues(live.len(), &result.edges, &local);
         let m = &d.model;
@@ -978,6 +1006,94 @@ mod tests {
         })
         .unwrap();
         assert!((law.fastest_rate_per_s(0.5).unwrap() - 0.09).abs() < 1e-12);
+    }
+
+    /// Groups, once, a swarm laid out by hand in the Ŝ plane (positions r = (C^{Ŝ/O})⁻¹ (0, y, z), at
+    /// rest, 20 m sensing range): two 2×3 lattices of spacing 0.5 m, 3 m apart. Returns the edges and
+    /// the grouping results.
+    fn group_two_clusters(preserve_connectivity: bool) -> (Vec<(usize, usize)>, serde_json::Value) {
+        use crate::grid::NeighbourGrid;
+        use crate::swarm::{EnvironmentView, SharedInfo};
+        let earth = crate::orbit::EarthModel::WGS84_EGM96;
+        let shared = SharedInfo {
+            time_s: 0.0,
+            mean_motion_rad_s: earth.mean_motion_rad_s(6871e3),
+            sensing_range_m: 20.0,
+            reference_model: crate::relative::SchweighartSedwick::new(
+                6871e3,
+                51.7f64.to_radians(),
+                earth.mu_m3_s2,
+                earth.equatorial_radius_m,
+                earth.j2,
+            ),
+        };
+        let mut law = J2Distance::new(J2DistanceParameters {
+            preserve_connectivity,
+            ..J2DistanceParameters::default()
+        })
+        .unwrap();
+        let normalised = {
+            let model = AveragedJ2::new(shared.reference_model);
+            let p = &law.parameters;
+            SwarmPlane {
+                theta_p_rad: p.plane_theta_p_deg.to_radians(),
+                theta_zxy_rad: p.plane_theta_zxy_deg.to_radians(),
+            }
+            .normalised_frame(model.c_plus(), model.c_minus())
+        };
+        let to_hill = normalised.try_inverse().unwrap();
+        let mut states = Vec::new();
+        for shift in [0.0, 3.0] {
+            for (row, col) in (0..2).flat_map(|r| (0..3).map(move |c| (r, c))) {
+                let y = shift + 0.5 * (col as f64 + 0.5 * row as f64);
+                let z = 0.5 * row as f64 * 3f64.sqrt() / 2.0;
+                states.push(RelativeStateHill {
+                    position_m: to_hill * Vector3::new(0.0, y, z),
+                    velocity_mps: Vector3::zeros(),
+                });
+            }
+        }
+        let coordinate =
+            |k: usize| -> Vec<f64> { states.iter().map(|s| s.position_m[k]).collect() };
+        let mut grid = NeighbourGrid::new();
+        grid.build(&coordinate(0), &coordinate(1), &coordinate(2), 20.0)
+            .unwrap();
+        let flags = vec![true; states.len()];
+        let masses = vec![0.5; states.len()];
+        let view = SwarmView {
+            relative_states: &states,
+            masses_kg: &masses,
+            active: &flags,
+            links_up: &flags,
+            grid: &grid,
+            shared,
+            environment: EnvironmentView::default(),
+        };
+        law.initialise(&view, &mut []).unwrap();
+        law.centralised_update(&view).unwrap();
+        let results = law.results(&view, &[]);
+        (law.edges().to_vec(), results["grouping"].clone())
+    }
+
+    #[test]
+    fn val_preserving_grouping_keeps_the_bridge_of_a_hand_built_swarm() {
+        // By hand (Ŝ plane): the nearest pair between the clusters is 5 (1.25, 0.433) – 6 (3, 0), at
+        // 1.803 m, longer than r_s = 1 m, so Algorithm 1 drops it; every other pair within a cluster is
+        // 0.5 m (lattice edges) or more.
+        let (paper, stats) = group_two_clusters(false);
+        assert!(!paper.contains(&(5, 6)));
+        assert!(paper.iter().all(|&(a, b)| (a < 6) == (b < 6)), "{paper:?}");
+        assert_eq!(stats["components"], 2);
+        assert_eq!(stats["connectivity_repairs"], 0);
+        let (kept, stats) = group_two_clusters(true);
+        let mut expected = paper.clone();
+        expected.push((5, 6));
+        expected.sort_unstable();
+        assert_eq!(kept, expected);
+        assert_eq!(stats["components"], 1);
+        assert_eq!(stats["always_connected"], true);
+        assert_eq!(stats["connectivity_repairs"], 1);
+        assert_eq!(stats["connectivity_repair_edges"], 1);
     }
 
     #[test]
