@@ -176,14 +176,18 @@ fn val_table_is_the_same_with_one_or_two_jobs_and_a_run_equals_a_plain_run() {
         .collect();
     kept.sort();
     assert_eq!(kept, ["scenario.toml", "summary.json"]);
-    for name in [
-        "manifest.jsonl",
-        "summary.md",
-        "plots/outcomes.png",
-        "plots/outcomes.svg",
-    ] {
+    for name in ["manifest.jsonl", "summary.md"] {
         assert!(one.join(name).is_file(), "{name}");
     }
+    // The figure: 2 parameters × 2 outcomes per row of 4 panels (420 px each), the log range on a
+    // log10 axis, and something drawn.
+    let png = image::open(one.join("plots/outcomes.png")).unwrap().to_rgb8();
+    assert_eq!(png.width(), 4 * 420);
+    let drawn = png.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+    assert!(drawn as f64 > 0.01 * f64::from(png.width() * png.height()));
+    let svg = std::fs::read_to_string(one.join("plots/outcomes.svg")).unwrap();
+    assert!(svg.contains("\nlog10 law.stiffness_per_s2\n</text>"));
+    assert!(svg.contains("\nlaw.damping_per_s\n</text>"));
 
     // Run 1 (damping 0.01, first stiffness sample, seed 11) as a plain `satflock run` of the built-in
     // scenario edited by hand.

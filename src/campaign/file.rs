@@ -661,10 +661,10 @@ mod tests {
         }
     }
 
+    /// The issue's example form, as shipped in `campaigns/`.
     #[test]
     fn the_issue_example_expands_to_the_grid_times_the_seeds() {
-        let text = "scenario = \"gao-circle\"\nseeds = { count = 4, first = 1 }\n[set]\n\
-                    duration_s = 300.0\n[vary]\n\"law.k_f_kg_per_m_s2\" = [0.002, 0.004]\n";
+        let text = include_str!("../../campaigns/gao-circle-k-f.toml");
         let c = load(text).unwrap();
         assert_eq!(c.seeds, [1, 2, 3, 4]);
         assert_eq!(c.run_count(), 8);

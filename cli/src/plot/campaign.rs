@@ -1,8 +1,8 @@
 //! The figure of a campaign (`satflock campaign`), drawn from its table alone: `OUT/plots/outcomes.png`
-//! and `.svg`, one column of panels per numeric varied parameter and one row per headline outcome,
-//! each run that completed a point (outcome against the parameter's value; a log-scale range on a
-//! log10 axis) and, where a value has several runs (the seeds of a listed value), the median per value
-//! as a line.
+//! and `.svg`, one panel per headline outcome and numeric varied parameter (a row holds whole groups of
+//! one outcome against every parameter, [`ROW_PANELS`] panels or more), each run that completed a point
+//! (outcome against the parameter's value; a log-scale range on a log10 axis) and, where a value has
+//! several runs (the seeds of a listed value), the median per value as a line.
 
 use std::path::Path;
 
@@ -18,6 +18,12 @@ use super::{
 
 /// Panel size \[px\].
 const PANEL: (u32, u32) = (420, 290);
+
+/// Panels per row when the parameters are fewer (a row holds whole groups of parameters).
+pub const ROW_PANELS: usize = 4;
+
+/// Narrowest figure \[px\] (room for the title).
+const MIN_WIDTH: u32 = 2 * PANEL.0;
 
 const POINT_COLOUR: RGBColor = RGBColor(31, 90, 170);
 const MEDIAN_COLOUR: RGBColor = RGBColor(200, 80, 0);
@@ -42,6 +48,15 @@ struct Outcomes<'a> {
 }
 
 impl Outcomes<'_> {
+    /// Rows and columns of panels: each row holds `k` outcomes × every parameter, `k` as many as fit
+    /// in [`ROW_PANELS`] (at least one).
+    fn grid(&self) -> (usize, usize) {
+        let p = self.parameters.len().max(1);
+        let n = self.outcomes.len().max(1);
+        let per_row = (ROW_PANELS / p).clamp(1, n);
+        (n.div_ceil(per_row), per_row * p)
+    }
+
     /// Completed runs' (x, y) for one parameter and outcome (x as drawn: log10 on a log axis).
     fn points(&self, parameter: &PlotParameter, outcome: &str) -> Vec<(f64, f64)> {
         let (Some(x), Some(y), Some(status)) = (
@@ -82,14 +97,16 @@ impl Figure for Outcomes<'_> {
     }
 
     fn size(&self) -> (u32, u32) {
-        let cols = self.parameters.len().max(1) as u32;
-        let rows = self.outcomes.len().max(1) as u32;
-        (cols * PANEL.0, rows * PANEL.1 + 50)
+        let (rows, cols) = self.grid();
+        (
+            (cols as u32 * PANEL.0).max(MIN_WIDTH),
+            rows as u32 * PANEL.1 + 50,
+        )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         let body = figure_title(root, &self.title)?;
-        let panels = body.split_evenly((self.outcomes.len().max(1), self.parameters.len().max(1)));
+        let panels = body.split_evenly(self.grid());
         let cells = self
             .outcomes
             .iter()
@@ -152,7 +169,7 @@ pub fn draw_campaign(
         message: e.to_string(),
     })?;
     let figure = Outcomes {
-        title: format!("{title}: outcomes of the completed runs (line: median per value)"),
+        title: format!("{title}: completed runs (line: median per value)"),
         table,
         parameters,
         outcomes,
