@@ -181,7 +181,9 @@ fn val_table_is_the_same_with_one_or_two_jobs_and_a_run_equals_a_plain_run() {
     }
     // The figure: 2 parameters × 2 outcomes per row of 4 panels (420 px each), the log range on a
     // log10 axis, and something drawn.
-    let png = image::open(one.join("plots/outcomes.png")).unwrap().to_rgb8();
+    let png = image::open(one.join("plots/outcomes.png"))
+        .unwrap()
+        .to_rgb8();
     assert_eq!(png.width(), 4 * 420);
     let drawn = png.pixels().filter(|p| p.0 != [255, 255, 255]).count();
     assert!(drawn as f64 > 0.01 * f64::from(png.width() * png.height()));
