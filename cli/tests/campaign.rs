@@ -319,3 +319,32 @@ fn val_resume_skips_finished_runs_and_reruns_failed_and_missing_ones() {
     let o = campaign(&file, &dir.join("strict"), &["--fail-on-run-failure"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
 }
+
+#[test]
+fn regress_a_refused_combination_is_recorded_and_the_others_run() {
+    // Each value is valid alone on the scenario; record_interval_s = 30 s with duration_s = 20 s is not.
+    let dir = scratch_dir("refused");
+    let file = dir.join("c.toml");
+    std::fs::write(
+        &file,
+        "scenario = \"hold\"\nseeds = [1]\n[set]\n\"satellites.count\" = 4\nevents = []\n[vary]\n\
+         duration_s = [20.0, 60.0]\nrecord_interval_s = [10.0, 30.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = campaign(&file, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = RunTable::read_parquet(&out.join("campaign.parquet")).unwrap();
+    let status: Vec<&str> = table
+        .text("status")
+        .unwrap()
+        .iter()
+        .map(String::as_str)
+        .collect();
+    // Keys in order: duration_s (slowest), record_interval_s.
+    assert_eq!(status, ["completed", "refused", "completed", "completed"]);
+    let error = &table.text("error").unwrap()[1];
+    assert!(error.contains("record_interval_s"), "{error}");
+    assert!(table.numbers("delta_v_mps.mean").unwrap()[1].is_nan());
+    assert!(!out.join("runs/00001").exists());
+}
