@@ -224,7 +224,8 @@ impl Campaign {
         }
         let mut with_set = scenario.table.clone();
         for (key, value) in &set {
-            overrides::apply(&mut with_set, key, value).expect("checked above");
+            overrides::apply(&mut with_set, key, value)
+                .map_err(|m| invalid(&format!("set.{key}"), format!("{value}: {m}")))?;
         }
         check_scenario(&scenario, with_set.clone()).map_err(|e| {
             let culprit = match &e {
