@@ -18,17 +18,18 @@
 //! | support | [`environment`] | threats, obstacles and the continuous closest-approach geometry |
 //! | support | [`metrics`] | five-element cluster characterisation, separation and collision counts |
 //! | support | [`time`] | the scenario epoch, UTC output times and time-scale offsets (hifitime) |
-//! | support | [`pool`] | a bounded pool of whole runs (each on its own single-thread rayon pool), results in job order |
 //! | engine | [`swarm`] | the law interface, the simulation (sensing, propagation, scheduler, events, monitors, snapshots) |
 //! | laws | [`guidance`] | the guidance laws and their registry |
 //! | input | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
 //! | output | [`output`] | streamed CSV recorder, JSON run summary, run-directory reader, CCSDS OEM and CZML exports |
 //! | front | [`propagate`], [`run`] | single-orbit propagation; a scenario end to end |
+//! | front | [`campaign`] | many runs of a scenario over seeds and parameters, in a bounded pool of whole runs; manifest, Parquet table, statistics |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod campaign;
 pub mod environment;
 pub mod grid;
 pub mod guidance;
@@ -36,7 +37,6 @@ pub mod integrate;
 pub mod metrics;
 pub mod orbit;
 pub mod output;
-pub mod pool;
 pub mod propagate;
 pub mod random;
 pub mod relative;

@@ -50,8 +50,12 @@
 //!
 //! # Campaigns
 //!
-//! A campaign's run `k` takes the seed [`sub_seed`]`(campaign_seed, k)` and derives all its streams from
-//! it as above, so any run can be re-run alone from (campaign seed, run index).
+//! A `satflock campaign` run takes its scenario seed from the campaign's seed list (`seeds = { count,
+//! first }` or an explicit list; see `docs/campaigns.md`): run `k` of a campaign with S seeds has seed
+//! `seeds[k mod S]`, a function of the campaign file and the run index alone, so any run can be re-run
+//! alone, with `satflock run` and that seed, whatever the order or parallelism of the campaign. The
+//! campaign's parameter samples draw from [`Purpose::CampaignSampling`] with the campaign's sampling
+//! seed. [`sub_seed`] derives many unrelated seeds from one, for tools that need them.
 
 use std::convert::Infallible;
 use std::fmt;
@@ -96,16 +100,20 @@ pub enum Purpose {
     /// Draws made by a guidance law's command, per satellite and control tick (independent of the
     /// update's).
     LawCommand,
+    /// A campaign's samples of its parameter ranges (`campaign::sampling`): stream = the range's index,
+    /// seed = the campaign's sampling seed (not a run's).
+    CampaignSampling,
 }
 
 impl Purpose {
     /// Every purpose, in declaration order.
-    pub const ALL: [Purpose; 5] = [
+    pub const ALL: [Purpose; 6] = [
         Purpose::InitialStates,
         Purpose::NavigationNoise,
         Purpose::ProcessNoise,
         Purpose::LawUpdate,
         Purpose::LawCommand,
+        Purpose::CampaignSampling,
     ];
 
     /// The purpose's fixed 64-bit tag (eight ASCII characters, big-endian), mixed into the ChaCha key.
@@ -116,6 +124,7 @@ impl Purpose {
             Purpose::ProcessNoise => u64::from_be_bytes(*b"procnois"),
             Purpose::LawUpdate => u64::from_be_bytes(*b"law_draw"),
             Purpose::LawCommand => u64::from_be_bytes(*b"law_cmnd"),
+            Purpose::CampaignSampling => u64::from_be_bytes(*b"campsmpl"),
         }
     }
 }

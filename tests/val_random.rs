@@ -177,7 +177,7 @@ fn val_adjacent_satellites_ticks_and_purposes_are_uncorrelated() {
     ] {
         assert_uncorrelated(&format!("satellite 8 tick 50 vs {what}"), &base, &other);
     }
-    // Satellite 0 tick 0 of every purpose, pairwise (6 pairs).
+    // Satellite 0 tick 0 of every purpose, pairwise.
     let per_purpose: Vec<_> = Purpose::ALL
         .iter()
         .map(|&p| (p, normals(seed, p, 0, 0)))

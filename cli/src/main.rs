@@ -2,7 +2,8 @@
 //!
 //! Exit codes: 0 success, 1 a run that failed (diverged, could not write; collisions with
 //! `--fail-on-collision`), 2 bad arguments or input, 130 / 143 a run interrupted by SIGINT / SIGTERM
-//! (its files closed and `summary.json` written with status `interrupted`).
+//! (its files closed and `summary.json` written with status `interrupted`). `satflock campaign` exits 0
+//! when the campaign ran even if some of its runs failed (see `campaign.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -13,6 +14,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
+mod campaign;
 mod characterize;
 
 use satflock::integrate::{IntegratorMethod, Tolerances};
@@ -119,6 +121,10 @@ enum Command {
         #[command(subcommand)]
         format: export::ExportCommand,
     },
+    /// Run a campaign: one scenario over seeds and parameters varied by dotted key (value lists as a
+    /// grid, ranges by Latin hypercube or at random), in parallel, into OUT: manifest.jsonl,
+    /// runs/NNNNN/summary.json, campaign.parquet, summary.md and plots/ (see docs/campaigns.md).
+    Campaign(campaign::CampaignArgs),
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
     /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi`, `takahashi-split`
     /// (see `satflock validate --list`).
@@ -353,6 +359,7 @@ fn main() -> ExitCode {
         Command::Propagate(args) => propagate_command(&args),
         Command::Export { format } => export::export_command(format),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
+        Command::Campaign(args) => campaign::campaign_command(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,11 +10,15 @@
 //! | `law_metrics`: every metric column of the law(s) | `metrics.csv` | `series.rs` |
 //! | `delta_v`: Δv per satellite, cumulative mean and max over time | `summary.json`, `metrics.csv` | `delta_v.rs` |
 //!
+//! A campaign's figure (`satflock campaign`, [`draw_campaign`]): `outcomes`, every headline outcome
+//! against every varied parameter, from the campaign's table (`campaign.rs`).
+//!
 //! Output is deterministic (same run directory, same bytes): no timestamps, tracks in id order, a fixed
 //! embedded font (DejaVu Sans, `cli/assets/fonts/`, drawn by `ab_glyph` without system font libraries).
 //! Swarms larger than [`MAX_TRACKS`] satellites show an evenly spaced subsample of ids, said on the
 //! figure; each track keeps at most [`MAX_TRACK_POINTS`] evenly spaced recordings (and its last).
 
+mod campaign;
 mod delta_v;
 mod series;
 mod tracks;
@@ -29,6 +33,8 @@ use plotters::style::{register_font, FontStyle};
 use thiserror::Error;
 
 use satflock::output::{RunData, RunDataError};
+
+pub use campaign::{draw_campaign, PlotParameter};
 
 /// Most satellites drawn as tracks; larger swarms show an evenly spaced subsample of ids.
 pub const MAX_TRACKS: usize = 200;

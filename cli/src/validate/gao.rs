@@ -464,7 +464,7 @@ fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Chec
     }
 }
 
-/// Runs every `(built-in name, seed, duration)` job through [`satflock::pool::run_bounded`] with as
+/// Runs every `(built-in name, seed, duration)` job through [`satflock::campaign::pool::run_bounded`] with as
 /// many workers as the current rayon pool has threads (`--threads`, default all cores), each worker
 /// running whole runs one after another on its own single-thread rayon pool: 50 satellites are too few for the engine's per-step parallelism to
 /// pay (a G3 run takes 3.0 s of CPU on one thread and more wall time on two), so runs, not steps, are
@@ -472,7 +472,7 @@ fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Chec
 /// waiting in another pool's `install` steals and starts further runs.) Results do not depend on the
 /// thread count (the engine is bitwise deterministic). Traces come back in job order.
 pub fn run_all(jobs: &[(&str, u64, Option<f64>)]) -> Result<Vec<Trace>, ValidateError> {
-    satflock::pool::run_bounded(
+    satflock::campaign::pool::run_bounded(
         jobs.to_vec(),
         rayon::current_num_threads(),
         |(name, seed, duration_s)| run_builtin(name, seed, duration_s),

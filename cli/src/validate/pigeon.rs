@@ -410,7 +410,7 @@ pub fn run_job(job: &Job) -> Result<Run, ValidateError> {
 /// Runs every job through the bounded pool, [`WORKERS`] at a time, each on its own single-thread rayon
 /// pool (results do not depend on the pool size); runs in job order.
 pub fn run_jobs(jobs: &[Job]) -> Result<Vec<Run>, ValidateError> {
-    satflock::pool::run_bounded(
+    satflock::campaign::pool::run_bounded(
         jobs.iter().collect(),
         WORKERS.min(rayon::current_num_threads()),
         run_job,
@@ -746,7 +746,7 @@ pub fn report() -> Result<Report, ValidateError> {
     let notes = vec![
         format!(
             "Runs: {} (Q1, Q2, extension × seeds 1–20), 6000 s each, HCW truth, RK4 0.1 s, law sampled every 0.1 s; \
-             {WORKERS} at a time through satflock::pool::run_bounded. Spreads are nearest-rank 5 % and 95 % quantiles; \
+             {WORKERS} at a time through satflock::campaign::pool::run_bounded. Spreads are nearest-rank 5 % and 95 % quantiles; \
              \"never\" = the event did not happen within the run.",
             all.len()
         ),

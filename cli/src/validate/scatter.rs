@@ -370,12 +370,12 @@ pub fn run_case(job: &CaseJob) -> Result<CaseRun, ValidateError> {
     })
 }
 
-/// Runs every job through [`satflock::pool::run_bounded`], [`WORKERS`] at a time, each worker running whole runs one after another on its own
+/// Runs every job through [`satflock::campaign::pool::run_bounded`], [`WORKERS`] at a time, each worker running whole runs one after another on its own
 /// single-thread rayon pool (4–6 satellites are too few for the engine's per-step parallelism to pay;
 /// results do not depend on the thread count, the engine being bitwise deterministic). Runs come back
 /// in job order.
 pub fn run_cases(jobs: &[CaseJob]) -> Result<Vec<CaseRun>, ValidateError> {
-    satflock::pool::run_bounded(
+    satflock::campaign::pool::run_bounded(
         jobs.iter().collect(),
         WORKERS.min(rayon::current_num_threads()),
         run_case,

@@ -10,7 +10,7 @@
 //! `metrics.csv` samples the same count at the recording times). `ts-plane-2` removes no satellite and
 //! cuts no link, so this is the swarm's interaction graph coming apart.
 //!
-//! The 40 runs (20 seeds × 2 groupings) go through one call of [`satflock::pool::run_bounded`]; the
+//! The 40 runs (20 seeds × 2 groupings) go through one call of [`satflock::campaign::pool::run_bounded`]; the
 //! campaign files `campaigns/ts-plane-2-split.toml` and `campaigns/ts-plane-2-split-preserving.toml`
 //! describe the same runs for `satflock campaign`.
 
@@ -159,14 +159,15 @@ pub fn report() -> Result<Report, ValidateError> {
         .into_iter()
         .flat_map(|preserve| (1..=SEEDS).map(move |seed| (seed, preserve)))
         .collect();
-    let runs: Vec<SplitRun> =
-        satflock::pool::run_bounded(jobs, rayon::current_num_threads(), |(seed, preserve)| {
-            split_run(seed, preserve, DURATION_S)
-        })
-        .map_err(failed)?
-        .into_iter()
-        .collect::<Result<_, _>>()
-        .map_err(failed)?;
+    let runs: Vec<SplitRun> = satflock::campaign::pool::run_bounded(
+        jobs,
+        rayon::current_num_threads(),
+        |(seed, preserve)| split_run(seed, preserve, DURATION_S),
+    )
+    .map_err(failed)?
+    .into_iter()
+    .collect::<Result<_, _>>()
+    .map_err(failed)?;
     let (paper, kept): (Vec<&SplitRun>, Vec<&SplitRun>) =
         runs.iter().partition(|r| !r.preserve_connectivity);
     let (paper_split, kept_split) = (split(&paper), split(&kept));
@@ -354,7 +355,7 @@ pub fn report() -> Result<Report, ValidateError> {
         checks,
         tables: vec![summary, per_seed],
         notes: vec![format!(
-            "Runs: ts-plane-2 (100 satellites, truth J2, defaults of docs/methods/j2-distance.md §10), duration_s = {DURATION_S}, seeds 1–{SEEDS}, each grouping; {} runs through satflock::pool::run_bounded, each on one thread. A run splits if its grouping graph over the live satellites has more than one connected component at some grouping update (summary.json: law.grouping.max_components > 1). The same runs as a campaign: campaigns/ts-plane-2-split.toml and campaigns/ts-plane-2-split-preserving.toml.",
+            "Runs: ts-plane-2 (100 satellites, truth J2, defaults of docs/methods/j2-distance.md §10), duration_s = {DURATION_S}, seeds 1–{SEEDS}, each grouping; {} runs through satflock::campaign::pool::run_bounded, each on one thread. A run splits if its grouping graph over the live satellites has more than one connected component at some grouping update (summary.json: law.grouping.max_components > 1). The same runs as a campaign: campaigns/ts-plane-2-split.toml and campaigns/ts-plane-2-split-preserving.toml.",
             runs.len()
         )],
     })

@@ -1,5 +1,6 @@
 //! A bounded pool of whole runs: at most `concurrent` jobs at a time, each worker running jobs one after
-//! another on its own single-thread rayon pool, results in job order.
+//! another on its own single-thread rayon pool, results in job order. Campaigns run through it, and so do
+//! the `satflock validate` reports' seeds.
 //!
 //! Small swarms (a few to a few tens of satellites) are too few for the engine's per-step parallelism to
 //! pay, so a batch of runs (seeds, cases) is spread over the cores by run instead. A rayon `par_iter`

@@ -1,0 +1,277 @@
+//! Statistics of a campaign: per parameter point, the median and the 5 % and 95 % percentiles of each
+//! headline outcome over the point's completed runs, and its failure count; written as `summary.md`.
+//!
+//! Percentiles interpolate linearly between order statistics (Hyndman & Fan 1996 definition 7, the
+//! default of numpy, R and Excel's PERCENTILE.INC): with the n values sorted x₀ ≤ … ≤ xₙ₋₁, the p-th
+//! percentile is x_⌊h⌋ + (h − ⌊h⌋)(x_⌊h⌋₊₁ − x_⌊h⌋) with h = (n − 1)p. One value is its own median
+//! and percentiles.
+
+use super::file::Campaign;
+use super::manifest::{RunRecord, Status};
+use crate::output::outcomes::RunTable;
+
+/// Name of the summary in the output directory.
+pub const FILE_NAME: &str = "summary.md";
+
+/// The headline outcomes summarised when the campaign file names none, in this order (those the runs
+/// have), followed by every outcome of the law (`law.*`).
+pub const DEFAULT_OUTCOMES: &[&str] = &[
+    "delta_v_mps.mean",
+    "delta_v_mps.max",
+    "min_separation_m",
+    "collisions",
+    "final.five_elements.d_max_m",
+    "final.five_elements.uniformity_l",
+    "environment.closest_threat_approach.minimum.distance_m",
+    "environment.threat_incursions",
+    "environment.min_obstacle_clearance.minimum.clearance_m",
+    "environment.obstacle_incursions",
+];
+
+/// The `p`-th percentile (`p` ∈ \[0, 1\]) of values sorted in increasing order (see the module
+/// documentation); NaN for no values.
+pub fn percentile(sorted: &[f64], p: f64) -> f64 {
+    let n = sorted.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
+    let lo = h.floor() as usize;
+    match sorted.get(lo + 1) {
+        Some(&next) => sorted[lo] + (h - lo as f64) * (next - sorted[lo]),
+        None => sorted[lo],
+    }
+}
+
+/// Median and 5–95 % spread of some values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    /// Number of values.
+    pub n: usize,
+    /// Median.
+    pub median: f64,
+    /// 5 % percentile.
+    pub p05: f64,
+    /// 95 % percentile.
+    pub p95: f64,
+}
+
+impl Spread {
+    /// The spread of the finite values among `values` (`None` if there are none).
+    pub fn of(values: impl IntoIterator<Item = f64>) -> Option<Self> {
+        let mut v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
+        if v.is_empty() {
+            return None;
+        }
+        v.sort_by(f64::total_cmp);
+        Some(Self {
+            n: v.len(),
+            median: percentile(&v, 0.5),
+            p05: percentile(&v, 0.05),
+            p95: percentile(&v, 0.95),
+        })
+    }
+}
+
+/// The outcomes to summarise: the campaign file's `outcomes`, or [`DEFAULT_OUTCOMES`] that the table
+/// has followed by its `law.*` columns.
+pub fn headline_outcomes(campaign: &Campaign, table: &RunTable) -> Vec<String> {
+    if let Some(named) = &campaign.outcomes {
+        return named.clone();
+    }
+    let has = |name: &str| table.numbers(name).is_some();
+    DEFAULT_OUTCOMES
+        .iter()
+        .filter(|n| has(n))
+        .map(|n| n.to_string())
+        .chain(
+            table
+                .numbers
+                .iter()
+                .filter(|(n, _)| n.starts_with("law."))
+                .map(|(n, _)| n.clone()),
+        )
+        .collect()
+}
+
+/// A number in at most 6 significant digits, no trailing zeros (scientific below 10⁻³ and from 10⁶).
+fn short(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-3..1e6).contains(&a) {
+        let text = format!("{v:.5e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
+    }
+    let decimals = if a == 0.0 {
+        0
+    } else {
+        (5 - a.log10().floor() as i32).clamp(0, 8) as usize
+    };
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+/// The text of `summary.md` for `records` (the last record of every finished run) and their `table`.
+pub fn markdown(campaign: &Campaign, records: &[RunRecord], table: &RunTable) -> String {
+    let count = |status: Status| records.iter().filter(|r| r.status == status).count();
+    let mut out = format!("# Campaign `{}`\n\n", campaign.file);
+    if !campaign.description.trim().is_empty() {
+        out.push_str(&format!("{}\n\n", campaign.description.trim()));
+    }
+    let seeds: Vec<String> = campaign.seeds.iter().map(u64::to_string).collect();
+    out.push_str(&format!(
+        "Scenario `{}`; {} runs: {} parameter point(s) × {} seed(s) ({}). Finished: {} of {} — {} \
+         completed, {} failed, {} refused, {} interrupted.\n\n",
+        campaign.scenario.source,
+        campaign.run_count(),
+        campaign.points.len(),
+        campaign.seeds.len(),
+        seeds.join(", "),
+        records.len(),
+        campaign.run_count(),
+        count(Status::Completed),
+        count(Status::Failed),
+        count(Status::Refused),
+        count(Status::Interrupted),
+    ));
+    if let Some(s) = campaign.sampling {
+        out.push_str(&format!(
+            "Ranges sampled by {} with {} samples (sampling seed {}), shared by every point of the \
+             value lists' grid.\n\n",
+            match s.method {
+                super::sampling::Method::LatinHypercube => "Latin hypercube",
+                super::sampling::Method::Random => "independent uniform draws",
+            },
+            s.samples,
+            s.seed
+        ));
+    }
+    out.push_str(
+        "Statistics over each point's completed runs: the median and the 5 % and 95 % percentiles \
+         (linear interpolation between order statistics, numpy's default); `n` is the number of \
+         completed runs that have the outcome. Every run's values are in `campaign.parquet`.\n\n",
+    );
+    out.push_str(&format!(
+        "Campaign file SHA-256 `{}`; satflock {}.\n\n",
+        campaign.sha256,
+        env!("CARGO_PKG_VERSION")
+    ));
+
+    let keys: Vec<String> = campaign
+        .parameters
+        .iter()
+        .map(|p| format!("`{}`", p.key))
+        .collect();
+    let header = |extra: &str| {
+        let mut h = String::from("| point |");
+        let mut rule = String::from("| ---: |");
+        for k in &keys {
+            h.push_str(&format!(" {k} |"));
+            rule.push_str(" ---: |");
+        }
+        for e in extra.split(',') {
+            h.push_str(&format!(" {e} |"));
+            rule.push_str(" ---: |");
+        }
+        format!("{h}\n{rule}\n")
+    };
+    let point_cells = |point: usize| {
+        let mut row = format!("| {point} |");
+        for value in &campaign.points[point] {
+            let text = match super::table::number(value) {
+                Some(v) => short(v),
+                None => value.to_string(),
+            };
+            row.push_str(&format!(" {text} |"));
+        }
+        row
+    };
+
+    out.push_str("## Runs per point\n\n");
+    out.push_str(&header("runs,completed,failed,refused,interrupted,not run"));
+    for point in 0..campaign.points.len() {
+        let of_point: Vec<&RunRecord> = records.iter().filter(|r| r.point == point).collect();
+        let by = |s: Status| of_point.iter().filter(|r| r.status == s).count();
+        out.push_str(&format!(
+            "{} {} | {} | {} | {} | {} | {} |\n",
+            point_cells(point),
+            campaign.seeds.len(),
+            by(Status::Completed),
+            by(Status::Failed),
+            by(Status::Refused),
+            by(Status::Interrupted),
+            campaign.seeds.len() - of_point.len(),
+        ));
+    }
+
+    let status = table.text("status").unwrap_or_default();
+    let points = table.numbers("point").unwrap_or_default();
+    for outcome in headline_outcomes(campaign, table) {
+        out.push_str(&format!("\n## `{outcome}`\n\n"));
+        let Some(values) = table.numbers(&outcome) else {
+            out.push_str("No run has this outcome.\n");
+            continue;
+        };
+        out.push_str(&header("n,median,5 %,95 %"));
+        for point in 0..campaign.points.len() {
+            let spread = Spread::of(
+                (0..values.len())
+                    .filter(|&r| points[r] == point as f64 && status[r] == "completed")
+                    .map(|r| values[r]),
+            );
+            out.push_str(&match spread {
+                Some(s) => format!(
+                    "{} {} | {} | {} | {} |\n",
+                    point_cells(point),
+                    s.n,
+                    short(s.median),
+                    short(s.p05),
+                    short(s.p95)
+                ),
+                None => format!("{} 0 | | | |\n", point_cells(point)),
+            });
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Hand-computed: for 1, 2, 3, 4 (n = 4) h = 3p: the median h = 1.5 → 2.5; 5 % h = 0.15 → 1.15;
+    /// 95 % h = 2.85 → 3.85. For 10, 20, 40 the median is 20 and the 5 % h = 0.1 → 11.
+    #[test]
+    fn percentiles_interpolate_between_order_statistics() {
+        let s = Spread::of([4.0, 1.0, 3.0, 2.0]).unwrap();
+        assert_eq!(s.n, 4);
+        assert_eq!(s.median, 2.5);
+        assert!((s.p05 - 1.15).abs() < 1e-15, "{}", s.p05);
+        assert!((s.p95 - 3.85).abs() < 1e-15, "{}", s.p95);
+        let s = Spread::of([40.0, 10.0, 20.0, f64::NAN]).unwrap();
+        assert_eq!((s.n, s.median), (3, 20.0));
+        assert!((s.p05 - 11.0).abs() < 1e-14);
+        assert!((s.p95 - 38.0).abs() < 1e-14);
+        let one = Spread::of([7.0]).unwrap();
+        assert_eq!((one.median, one.p05, one.p95), (7.0, 7.0, 7.0));
+        assert!(Spread::of([f64::NAN]).is_none());
+        assert_eq!(percentile(&[1.0, 2.0], 1.0), 2.0);
+        assert_eq!(percentile(&[1.0, 2.0], 0.0), 1.0);
+    }
+
+    #[test]
+    fn short_numbers() {
+        assert_eq!(short(0.004), "0.004");
+        assert_eq!(short(2.0), "2");
+        assert_eq!(short(123.456789), "123.457");
+        assert_eq!(short(2.5e-5), "2.5e-5");
+        assert_eq!(short(1e6), "1e6");
+        assert_eq!(short(-1.234567e7), "-1.23457e7");
+        assert_eq!(short(0.0), "0");
+    }
+}
