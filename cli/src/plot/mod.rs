@@ -10,12 +10,16 @@
 //! | `law_metrics`: every metric column of the law(s) | `metrics.csv` | `series.rs` |
 //! | `delta_v`: Δv per satellite, cumulative mean and max over time | `summary.json`, `metrics.csv` | `delta_v.rs` |
 //!
+//! [`overlay`] draws the figures of several runs at once (`satflock compare`: one metric, every law on
+//! one axis) from curves its caller computes.
+//!
 //! Output is deterministic (same run directory, same bytes): no timestamps, tracks in id order, a fixed
 //! embedded font (DejaVu Sans, `cli/assets/fonts/`, drawn by `ab_glyph` without system font libraries).
 //! Swarms larger than [`MAX_TRACKS`] satellites show an evenly spaced subsample of ids, said on the
 //! figure; each track keeps at most [`MAX_TRACK_POINTS`] evenly spaced recordings (and its last).
 
 mod delta_v;
+pub mod overlay;
 mod series;
 mod tracks;
 
@@ -95,7 +99,7 @@ impl PlotReport {
 /// One figure: its file name (without extension), size in pixels and drawing on any backend.
 trait Figure {
     /// File name without extension.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
     /// Width and height \[px\].
     fn size(&self) -> (u32, u32);
     /// Draws the whole figure on `root` (already filled white).
