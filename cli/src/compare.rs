@@ -721,11 +721,13 @@ fn prepare_compare_dir(dir: &Path) -> Result<(), CompareError> {
             return std::fs::create_dir_all(dir).map_err(|e| io(dir, e));
         }
         Err(e) => return Err(io(dir, e)),
-        Ok(m) if !m.is_dir() => return Err(CompareError::Input(format!(
+        Ok(m) if !m.is_dir() => {
+            return Err(CompareError::Input(format!(
             "--out {}: exists and is not a directory (allowed: a new path, an empty directory or \
                  a previous comparison's directory)",
             dir.display()
-        ))),
+        )))
+        }
         Ok(_) => {}
     }
     if let Some(foreign) = foreign_compare_entry(dir).map_err(|e| io(dir, e))? {
