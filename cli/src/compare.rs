@@ -532,18 +532,15 @@ pub fn format_number(v: f64) -> String {
 }
 
 /// A cell: `median [p05, p95]` over the law's runs that have the value (the median alone when the
-/// values do not spread), with `(k of n)` when only k of its n runs have it; `—` when none has.
+/// percentiles are equal to 4 significant digits), with `(k of n)` when only k of its n runs have it; `—` when none has.
 pub fn format_cell(spread: &Spread, runs: usize) -> String {
     if spread.count == 0 {
         return "—".into();
     }
     let mut cell = format_number(spread.median);
-    if spread.p05 < spread.p95 {
-        cell.push_str(&format!(
-            " [{}, {}]",
-            format_number(spread.p05),
-            format_number(spread.p95)
-        ));
+    let (p05, p95) = (format_number(spread.p05), format_number(spread.p95));
+    if p05 != p95 {
+        cell.push_str(&format!(" [{p05}, {p95}]"));
     }
     if spread.count < runs {
         cell.push_str(&format!(" ({} of {runs})", spread.count));

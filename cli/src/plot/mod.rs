@@ -27,6 +27,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
@@ -403,12 +404,15 @@ pub(crate) fn caption<DB: DrawingBackend>(
     Ok(area.titled(text, (FONT, size::CAPTION))?)
 }
 
-/// Draws the mesh, tick labels and axis descriptions of a chart.
-pub(crate) fn axes<DB: DrawingBackend>(
-    chart: &mut Chart<'_, DB>,
+/// Draws the mesh, tick labels and axis descriptions of a chart (linear x; linear or logarithmic y).
+pub(crate) fn axes<DB: DrawingBackend, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
     x_desc: &str,
     y_desc: &str,
-) -> Result<(), DrawError> {
+) -> Result<(), DrawError>
+where
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
     chart
         .configure_mesh()
         .x_desc(x_desc)
@@ -426,10 +430,13 @@ pub(crate) fn axes<DB: DrawingBackend>(
 }
 
 /// Draws the legend of a chart's labelled series.
-pub(crate) fn legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
+pub(crate) fn legend<'a, DB: DrawingBackend + 'a, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
     position: SeriesLabelPosition,
-) -> Result<(), DrawError> {
+) -> Result<(), DrawError>
+where
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
     chart
         .configure_series_labels()
         .position(position)

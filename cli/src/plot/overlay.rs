@@ -1,16 +1,20 @@
 //! Overlay figures of several runs' groups (the laws of `satflock compare`): one metric over time, every
-//! group on one axis in its own colour, as the median over the group's runs with a light 5–95 % band.
+//! group on one axis in its own colour, as the median over the group's runs with a light 5–95 % band
+//! (on a logarithmic axis when the values are positive and span more than three decades).
 //! The curves are computed by the caller (from the runs' metrics tables); this module only draws them.
 
 use std::path::{Path, PathBuf};
 
+use plotters::coord::ranged1d::ValueFormatter;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::tracks::track_colour;
 use super::{
-    axes, column_label, figure_title, legend, padded_range, panel, register_embedded_font,
-    write_figure, DrawError, Figure, PlotError, PlotReport, TimeAxis,
+    axes, column_label, figure_title, finite_runs, legend, padded_range, panel,
+    register_embedded_font, write_figure, DrawError, Figure, PlotError, PlotReport, TimeAxis,
+    MARGIN, X_LABEL_AREA, Y_LABEL_AREA,
 };
 
 /// One group's curve: the median and the 5 % and 95 % percentiles over its runs at each recording time
@@ -60,13 +64,45 @@ impl Figure for Overlay {
             .fold(0.0, f64::max);
         let time = TimeAxis::for_duration(end_s);
         let x = 0.0..time.value(end_s).max(f64::MIN_POSITIVE);
-        let y = padded_range(
+        let values = || {
             self.curves
                 .iter()
-                .flat_map(|c| c.p05.iter().chain(&c.p95).chain(&c.median).copied()),
-        );
-        let mut chart = panel(&body, x, y)?;
-        axes(&mut chart, &time.label(), &column_label(&self.column))?;
+                .flat_map(|c| c.p05.iter().chain(&c.p95).chain(&c.median).copied())
+                .filter(|v| v.is_finite())
+        };
+        match log_range(values()) {
+            Some(y) => {
+                let mut chart = ChartBuilder::on(&body)
+                    .margin(MARGIN)
+                    .x_label_area_size(X_LABEL_AREA)
+                    .y_label_area_size(Y_LABEL_AREA)
+                    .build_cartesian_2d(x, y.log_scale())?;
+                self.draw_curves(&mut chart, &time, " (log scale)")
+            }
+            None => {
+                let mut chart = panel(&body, x, padded_range(values()))?;
+                self.draw_curves(&mut chart, &time, "")
+            }
+        }
+    }
+}
+
+impl Overlay {
+    /// The axes, every curve's band and median, and the legend, on a linear or logarithmic y axis.
+    fn draw_curves<'a, DB: DrawingBackend + 'a, Y>(
+        &self,
+        chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, Y>>,
+        time: &TimeAxis,
+        y_note: &str,
+    ) -> Result<(), DrawError>
+    where
+        Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    {
+        axes(
+            chart,
+            &time.label(),
+            &format!("{}{y_note}", column_label(&self.column)),
+        )?;
         for (k, curve) in self.curves.iter().enumerate() {
             let colour = track_colour(k);
             let t: Vec<f64> = curve.t_s.iter().map(|t| time.value(*t)).collect();
@@ -78,7 +114,7 @@ impl Figure for Overlay {
                 )))?;
             }
             let mut labelled = false;
-            for run in super::finite_runs(&t, &curve.median) {
+            for run in finite_runs(&t, &curve.median) {
                 let series = if run.len() == 1 {
                     chart.draw_series(std::iter::once(PathElement::new(
                         run,
@@ -95,9 +131,22 @@ impl Figure for Overlay {
                 }
             }
         }
-        legend(&mut chart, SeriesLabelPosition::UpperRight)
+        legend(chart, SeriesLabelPosition::UpperRight)
     }
 }
+
+/// A logarithmic y range for values spanning more than [`LOG_AXIS_DECADES`] decades, all positive
+/// (a threat's distance falls from its start to metres); `None`: a linear axis.
+fn log_range(values: impl Iterator<Item = f64>) -> Option<std::ops::Range<f64>> {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    (lo > 0.0 && hi.is_finite() && hi / lo > 10f64.powi(LOG_AXIS_DECADES))
+        .then(|| lo / 1.5..hi * 1.5)
+}
+
+/// Decades beyond which an overlay's y axis is logarithmic.
+const LOG_AXIS_DECADES: i32 = 3;
 
 /// The closed outlines (p95 forward, p05 back) of the runs of times where both percentiles are finite.
 fn finite_bands(t: &[f64], lo: &[f64], hi: &[f64]) -> Vec<Vec<(f64, f64)>> {
@@ -150,5 +199,13 @@ mod tests {
             finite_bands(&t, &lo, &hi),
             vec![vec![(0.0, 1.0), (1.0, 2.0), (1.0, 1.0), (0.0, 0.0)]]
         );
+    }
+
+    #[test]
+    fn the_axis_is_logarithmic_only_for_positive_values_over_three_decades() {
+        assert_eq!(log_range([3.0, 1.5e6].into_iter()), Some(2.0..2.25e6));
+        assert_eq!(log_range([3.0, 2000.0].into_iter()), None);
+        assert_eq!(log_range([0.0, 1.5e6].into_iter()), None);
+        assert_eq!(log_range(std::iter::empty()), None);
     }
 }
