@@ -605,7 +605,7 @@ fn markdown(case: &Scenario, laws: &[Law], seeds: &[u64], table: &RunTable) -> S
     // Runs not completed, one line per law and (status, error), with their seeds.
     let errors = table.text("error").unwrap_or_default();
     let seed = table.numbers("seed").unwrap_or_default();
-    let mut lines: Vec<((&str, &str, &str), Vec<String>)> = Vec::new();
+    let mut lines: Vec<(NotCompleted, Vec<String>)> = Vec::new();
     for l in laws {
         for k in of_law(l).into_iter().filter(|&k| status[k] != "completed") {
             let what = (l.label.as_str(), status[k].as_str(), errors[k].as_str());
@@ -627,6 +627,9 @@ fn markdown(case: &Scenario, laws: &[Law], seeds: &[u64], table: &RunTable) -> S
     }
     text
 }
+
+/// A law's runs not completed with one status and error: (label, status, error).
+type NotCompleted<'a> = (&'a str, &'a str, &'a str);
 
 /// Seeds as written: `A..B` when consecutive, else a list.
 fn seed_list(seeds: &[u64]) -> String {
