@@ -237,7 +237,7 @@ pub fn compare(options: &CompareOptions) -> Result<CompareReport, CompareError> 
             failed.fetch_add(1, Ordering::Relaxed);
         }
         bar.set_message(format!(
-            "{} failed, {} running",
+            "{} not completed, {} running",
             failed.load(Ordering::Relaxed),
             running.load(Ordering::Relaxed)
         ));
