@@ -77,7 +77,7 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
         _ => return RunError::Simulation(e),
     };
     RunError::Scenario(ScenarioError::Invalid {
-        file: scenario.source.clone(),
+        file: scenario.sources(),
         key: key.into(),
         message: e.to_string(),
     })
@@ -151,49 +151,53 @@ pub fn prepare_output_dir(dir: &Path) -> Result<(), RunError> {
             .collect();
         format!("{}, {}", RUN_FILES.join(", "), dirs.join(", "))
     };
-    let mut found = Vec::new();
-    let mut found_dirs = Vec::new();
-    for entry in std::fs::read_dir(dir).map_err(|e| output_error(dir, e))? {
-        let entry = entry.map_err(|e| output_error(dir, e))?;
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let file_type = entry
-            .file_type()
-            .map_err(|e| output_error(&entry.path(), e))?;
-        if file_type.is_file() && RUN_FILES.contains(&name.as_str()) {
-            found.push(name);
-            continue;
-        }
-        let run_dir = RUN_DIRS.iter().find(|(d, _)| *d == name);
-        if let (true, Some((_, extensions))) = (file_type.is_dir(), run_dir) {
-            if let Some(foreign) = foreign_entry(&entry.path(), extensions)
-                .map_err(|e| output_error(&entry.path(), e))?
-            {
-                return Err(refuse(format!(
-                    "is not empty and not a previous satflock run: it holds `{name}/{foreign}` \
-                     (allowed: a new path, an empty directory, or a directory holding only {})",
-                    allowed()
-                )));
-            }
-            found_dirs.push(name);
-            continue;
-        }
+    if let Some(foreign) = foreign_run_entry(dir).map_err(|e| output_error(dir, e))? {
         return Err(refuse(format!(
-            "is not empty and not a previous satflock run: it holds `{name}` (allowed: a new path, an \
-             empty directory, or a directory holding only {})",
+            "is not empty and not a previous satflock run: it holds `{foreign}` (allowed: a new path, \
+             an empty directory, or a directory holding only {})",
             allowed()
         )));
     }
     for name in RUN_FILES {
-        if found.iter().any(|f| f == name) {
-            let path = dir.join(name);
+        let path = dir.join(name);
+        if path.is_file() {
             std::fs::remove_file(&path).map_err(|e| output_error(&path, e))?;
         }
     }
-    for name in found_dirs {
+    for (name, _) in RUN_DIRS {
         let path = dir.join(name);
-        std::fs::remove_dir_all(&path).map_err(|e| output_error(&path, e))?;
+        if path.is_dir() {
+            std::fs::remove_dir_all(&path).map_err(|e| output_error(&path, e))?;
+        }
     }
     Ok(())
+}
+
+/// The first entry of the directory `dir` that a previous run did not write, as a path relative to
+/// `dir` (`notes.txt`, `plots/notes.txt`): anything but the files [`RUN_FILES`] and the folders
+/// [`RUN_DIRS`] holding only files with their extensions. `None`: `dir` holds only a previous run's
+/// outputs, or nothing. Tools that keep runs in folders of their own (`satflock compare`) check them
+/// with it before clearing them.
+pub fn foreign_run_entry(dir: &Path) -> std::io::Result<Option<String>> {
+    let mut entries: Vec<std::fs::DirEntry> =
+        std::fs::read_dir(dir)?.collect::<std::io::Result<_>>()?;
+    entries.sort_by_key(|e| e.file_name());
+    for entry in entries {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let file_type = entry.file_type()?;
+        if file_type.is_file() && RUN_FILES.contains(&name.as_str()) {
+            continue;
+        }
+        match RUN_DIRS.iter().find(|(d, _)| *d == name) {
+            Some((_, extensions)) if file_type.is_dir() => {
+                if let Some(foreign) = foreign_entry(&entry.path(), extensions)? {
+                    return Ok(Some(format!("{name}/{foreign}")));
+                }
+            }
+            _ => return Ok(Some(name)),
+        }
+    }
+    Ok(None)
 }
 
 /// The first entry of `dir` that is not a file with one of `extensions` (`None`: there is none).
@@ -220,7 +224,7 @@ fn foreign_entry(dir: &Path, extensions: &[&str]) -> std::io::Result<Option<Stri
 fn check_output_keys(scenario: &Scenario) -> Result<Option<f64>, RunError> {
     match scenario.file.output.delta_v_budget_mps {
         Some(b) if !(b.is_finite() && b > 0.0) => Err(ScenarioError::Invalid {
-            file: scenario.source.clone(),
+            file: scenario.sources(),
             key: "output.delta_v_budget_mps".into(),
             message: format!("{b} is out of range (allowed: finite, > 0 m/s)"),
         }
@@ -299,6 +303,14 @@ pub fn run_scenario_with(
         path: scenario_path.display().to_string(),
         message: e.to_string(),
     })?;
+    // A replaced controller is said in a comment; the tables below are the scenario as run.
+    let scenario_text = match &scenario.controller {
+        Some(c) => format!(
+            "# As run: the case {} with the controller {} (its law, law events and control timing).\n{scenario_text}",
+            scenario.source, c.source
+        ),
+        None => scenario_text,
+    };
     std::fs::write(&scenario_path, scenario_text).map_err(|e| output_error(&scenario_path, e))?;
     let formats = TableFormats::choose(
         options.format.or(scenario.file.output.format),
@@ -335,6 +347,7 @@ pub fn run_scenario_with(
     let summary = RunSummary {
         scenario: prepared.name,
         source: scenario.source.clone(),
+        controller: scenario.controller.as_ref().map(|c| c.source.clone()),
         seed,
         epoch_utc: crate::time::utc_iso(epoch),
         time_system: frames::TIME_SYSTEM.into(),

@@ -27,7 +27,7 @@ use satflock::output::OutputFormat;
 use satflock::output::{frames, InertialTrack};
 use satflock::propagate::{propagate, PropagationSettings};
 use satflock::run::{run_scenario_with, RunError, RunOptions};
-use satflock::scenario::{builtin, Scenario};
+use satflock::scenario::{builtin, Controller, Scenario};
 use satflock::swarm::SimError;
 
 mod export;
@@ -81,6 +81,48 @@ enum Command {
         /// Do not draw the figures into OUT/plots/ after the run (`satflock plot OUT` draws them later).
         #[arg(long)]
         no_plots: bool,
+        /// Steer the scenario with another controller: a controller file (a `[law]` table, optionally
+        /// `[control]` and law `[[events]]`) or `builtin:NAME` (a built-in scenario's law, law events
+        /// and control timing). It replaces the scenario's law, law events and (if it gives one) control
+        /// timing; the rest of the scenario (the case) is kept.
+        #[arg(long, value_name = "FILE.toml|builtin:NAME")]
+        law: Option<String>,
+    },
+    /// Run every controller (law) on the same case and the same seeds, in parallel, and write a
+    /// side-by-side table: OUT/compare.md (also on stdout), OUT/compare.parquet (one row per run),
+    /// overlay plots in OUT/plots/ and each run's directory in OUT/runs/LABEL/seed-N/.
+    ///
+    /// Every law starts from the same initial states (they depend only on the case and the seed). A run
+    /// that fails or that the case refuses for a law is a row with its status and error. Exit 0 when
+    /// the table is written (runs not completed are said on stderr), 2 for bad input.
+    Compare {
+        /// The case: a scenario file or a built-in name (its law, law events and control timing are
+        /// replaced by each --law's).
+        case: String,
+        /// A controller, once per law: a file (a `[law]` table, optionally `[control]` and law
+        /// `[[events]]`) or `builtin:NAME` (a built-in scenario's controller). Its label in the table
+        /// is the file name without extension, or NAME.
+        #[arg(long = "law", required = true, value_name = "FILE.toml|builtin:NAME")]
+        laws: Vec<String>,
+        /// Seeds: `A..B` (A to B, both included), a list `A,B,C`, or one seed (default: the case's
+        /// seed).
+        #[arg(long)]
+        seeds: Option<String>,
+        /// Output directory: a new path, an empty directory or a previous comparison's directory
+        /// (whose outputs are removed first). A directory holding anything else is refused.
+        #[arg(long)]
+        out: PathBuf,
+        /// Runs at once, 1 to 1024 (default: the number of cores); each run uses one thread. Results
+        /// do not depend on it.
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=MAX_THREADS))]
+        jobs: Option<u16>,
+        /// Keep each run's trajectory table too (default: each run keeps its summary, metrics,
+        /// scene.json and scenario.toml).
+        #[arg(long)]
+        keep_runs: bool,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Write RUN_DIR/report.html: one self-contained page (works offline) with the scenario, a summary
     /// table, the plots in RUN_DIR/plots/ and an animated 3-D view of the swarm in Hill LVLH.
@@ -313,19 +355,22 @@ fn main() -> ExitCode {
             report,
             format,
             no_plots,
+            law,
         } => {
-            let outcome = run(
-                &scenario,
-                &out,
-                threads.map(usize::from),
-                quiet,
-                fail_on_collision,
-                format.map(|f| match f {
-                    FormatArg::Csv => OutputFormat::Csv,
-                    FormatArg::Parquet => OutputFormat::Parquet,
-                }),
-                !no_plots,
-            );
+            let outcome = load_scenario(&scenario, law.as_deref()).and_then(|scenario| {
+                run(
+                    &scenario,
+                    &out,
+                    threads.map(usize::from),
+                    quiet,
+                    fail_on_collision,
+                    format.map(|f| match f {
+                        FormatArg::Csv => OutputFormat::Csv,
+                        FormatArg::Parquet => OutputFormat::Parquet,
+                    }),
+                    !no_plots,
+                )
+            });
             // A run that started (completed, stopped or interrupted) has valid files and a summary;
             // refused input never touched the directory.
             let started = outcome
@@ -343,6 +388,30 @@ fn main() -> ExitCode {
                 outcome
             }
         }
+        Command::Compare {
+            case,
+            laws,
+            seeds,
+            out,
+            jobs,
+            keep_runs,
+            quiet,
+        } => compare_command(
+            satflock_cli::compare::CompareOptions {
+                case,
+                laws,
+                seeds: None,
+                out,
+                jobs: jobs.map_or_else(
+                    || std::thread::available_parallelism().map_or(1, usize::from),
+                    usize::from,
+                ),
+                keep_runs,
+                progress: !quiet,
+                cancel: None,
+            },
+            seeds.as_deref(),
+        ),
         Command::Report { run_dir } => report_command(&run_dir, false),
         Command::Plot { run_dir } => plot_command(&run_dir),
         Command::Scenarios { action: None } => scenarios(),
@@ -394,8 +463,20 @@ fn install_signal_handlers() -> Result<(Arc<AtomicBool>, Arc<AtomicUsize>)> {
     Ok((cancel, which))
 }
 
+/// A scenario by path or built-in name, steered by the controller `law` if given (`--law`).
+fn load_scenario(scenario: &str, law: Option<&str>) -> Result<Scenario> {
+    let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
+    match law {
+        Some(spec) => {
+            let controller = Controller::load(spec).map_err(|e| usage(e.to_string()))?;
+            Ok(scenario.with_controller(&controller))
+        }
+        None => Ok(scenario),
+    }
+}
+
 fn run(
-    scenario: &str,
+    scenario: &Scenario,
     out: &Path,
     threads: Option<usize>,
     quiet: bool,
@@ -403,7 +484,6 @@ fn run(
     format: Option<OutputFormat>,
     plots: bool,
 ) -> Result<()> {
-    let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
     // Validate before anything is created on disk.
     let duration_s = scenario
         .prepare()
@@ -438,7 +518,7 @@ fn run(
         cancel: Some(cancel),
         format,
     };
-    let outcome = pool.install(|| run_scenario_with(&scenario, out, &options, &mut progress));
+    let outcome = pool.install(|| run_scenario_with(scenario, out, &options, &mut progress));
     bar.finish_and_clear();
     // The figures, also of a run that stopped, from whatever it wrote (not when nothing was written).
     let wrote = match &outcome {
@@ -490,10 +570,45 @@ fn run(
         Err(e @ RunError::OutputDirectory { .. }) => Err(usage(e.to_string())),
         // A setup the engine refuses is the user's input (exit 2); a run that stopped is exit 1.
         Err(RunError::Simulation(e)) if e.is_setup() => {
-            Err(usage(format!("{}: {e}", scenario.source)))
+            Err(usage(format!("{}: {e}", scenario.sources())))
         }
         Err(e) => Err(e.into()),
     }
+}
+
+/// `satflock compare`: the table on stdout, runs not completed on stderr.
+fn compare_command(
+    mut options: satflock_cli::compare::CompareOptions,
+    seeds: Option<&str>,
+) -> Result<()> {
+    use satflock_cli::compare::{compare, parse_seeds, CompareError};
+    options.seeds = seeds.map(parse_seeds).transpose().map_err(usage)?;
+    let (cancel, which) = install_signal_handlers()?;
+    options.cancel = Some(cancel);
+    let report = compare(&options).map_err(|e| match e {
+        CompareError::Input(_) => usage(e.to_string()),
+        other => anyhow::Error::from(other),
+    })?;
+    print_out(&report.markdown)?;
+    if report.not_completed > 0 {
+        eprintln!(
+            "warning: {} of {} runs did not complete (see the list under the table in {})",
+            report.not_completed,
+            report.table.rows(),
+            options.out.join("compare.md").display()
+        );
+    }
+    if report.interrupted {
+        return Err(Interrupted {
+            signal: which.load(Ordering::Relaxed) as i32,
+            message: format!(
+                "comparison interrupted; the table in {} holds the runs that finished",
+                options.out.display()
+            ),
+        }
+        .into());
+    }
+    Ok(())
 }
 
 /// Writes `dir/report.html`; a run directory that cannot be read is the user's input (exit 2).

@@ -633,6 +633,7 @@ fn read_scenario(base: &BaseScenario, table: toml::Table) -> Result<Scenario, Sc
         file,
         source: base.source.clone(),
         base_dir: base.base_dir.clone(),
+        controller: None,
     })
 }
 

@@ -1,14 +1,13 @@
 //! Statistics of a campaign: per parameter point, the median and the 5 % and 95 % percentiles of each
 //! headline outcome over the point's completed runs, and its failure count; written as `summary.md`.
 //!
-//! Percentiles interpolate linearly between order statistics (Hyndman & Fan 1996 definition 7, the
-//! default of numpy, R and Excel's PERCENTILE.INC): with the n values sorted x₀ ≤ … ≤ xₙ₋₁, the p-th
-//! percentile is x_⌊h⌋ + (h − ⌊h⌋)(x_⌊h⌋₊₁ − x_⌊h⌋) with h = (n − 1)p. One value is its own median
-//! and percentiles.
+//! Percentiles: [`crate::output::spread`] (linear interpolation between order statistics, as in
+//! `satflock compare`).
 
 use super::file::Campaign;
 use super::manifest::{RunRecord, Status};
 use crate::output::outcomes::RunTable;
+use crate::output::spread::Spread;
 
 /// Name of the summary in the output directory.
 pub const FILE_NAME: &str = "summary.md";
@@ -27,51 +26,6 @@ pub const DEFAULT_OUTCOMES: &[&str] = &[
     "environment.min_obstacle_clearance.minimum.clearance_m",
     "environment.obstacle_incursions",
 ];
-
-/// The `p`-th percentile (`p` ∈ \[0, 1\]) of values sorted in increasing order (see the module
-/// documentation); NaN for no values.
-pub fn percentile(sorted: &[f64], p: f64) -> f64 {
-    let n = sorted.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
-    let lo = h.floor() as usize;
-    match sorted.get(lo + 1) {
-        Some(&next) => sorted[lo] + (h - lo as f64) * (next - sorted[lo]),
-        None => sorted[lo],
-    }
-}
-
-/// Median and 5–95 % spread of some values.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Spread {
-    /// Number of values.
-    pub n: usize,
-    /// Median.
-    pub median: f64,
-    /// 5 % percentile.
-    pub p05: f64,
-    /// 95 % percentile.
-    pub p95: f64,
-}
-
-impl Spread {
-    /// The spread of the finite values among `values` (`None` if there are none).
-    pub fn of(values: impl IntoIterator<Item = f64>) -> Option<Self> {
-        let mut v: Vec<f64> = values.into_iter().filter(|x| x.is_finite()).collect();
-        if v.is_empty() {
-            return None;
-        }
-        v.sort_by(f64::total_cmp);
-        Some(Self {
-            n: v.len(),
-            median: percentile(&v, 0.5),
-            p05: percentile(&v, 0.05),
-            p95: percentile(&v, 0.95),
-        })
-    }
-}
 
 /// The outcomes to summarise: the campaign file's `outcomes`, or [`DEFAULT_OUTCOMES`] that the table
 /// has followed by its `law.*` columns.
@@ -219,16 +173,16 @@ pub fn markdown(campaign: &Campaign, records: &[RunRecord], table: &RunTable) ->
         };
         out.push_str(&header("n,median,5 %,95 %"));
         for point in 0..campaign.points.len() {
-            let spread = Spread::of(
-                (0..values.len())
-                    .filter(|&r| points[r] == point as f64 && status[r] == "completed")
-                    .map(|r| values[r]),
-            );
+            let completed: Vec<f64> = (0..values.len())
+                .filter(|&r| points[r] == point as f64 && status[r] == "completed")
+                .map(|r| values[r])
+                .collect();
+            let spread = Some(Spread::of(&completed)).filter(|s| s.count > 0);
             out.push_str(&match spread {
                 Some(s) => format!(
                     "{} {} | {} | {} | {} |\n",
                     point_cells(point),
-                    s.n,
+                    s.count,
                     short(s.median),
                     short(s.p05),
                     short(s.p95)
@@ -243,26 +197,6 @@ pub fn markdown(campaign: &Campaign, records: &[RunRecord], table: &RunTable) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Hand-computed: for 1, 2, 3, 4 (n = 4) h = 3p: the median h = 1.5 → 2.5; 5 % h = 0.15 → 1.15;
-    /// 95 % h = 2.85 → 3.85. For 10, 20, 40 the median is 20 and the 5 % h = 0.1 → 11.
-    #[test]
-    fn percentiles_interpolate_between_order_statistics() {
-        let s = Spread::of([4.0, 1.0, 3.0, 2.0]).unwrap();
-        assert_eq!(s.n, 4);
-        assert_eq!(s.median, 2.5);
-        assert!((s.p05 - 1.15).abs() < 1e-15, "{}", s.p05);
-        assert!((s.p95 - 3.85).abs() < 1e-15, "{}", s.p95);
-        let s = Spread::of([40.0, 10.0, 20.0, f64::NAN]).unwrap();
-        assert_eq!((s.n, s.median), (3, 20.0));
-        assert!((s.p05 - 11.0).abs() < 1e-14);
-        assert!((s.p95 - 38.0).abs() < 1e-14);
-        let one = Spread::of([7.0]).unwrap();
-        assert_eq!((one.median, one.p05, one.p95), (7.0, 7.0, 7.0));
-        assert!(Spread::of([f64::NAN]).is_none());
-        assert_eq!(percentile(&[1.0, 2.0], 1.0), 2.0);
-        assert_eq!(percentile(&[1.0, 2.0], 0.0), 1.0);
-    }
 
     #[test]
     fn short_numbers() {

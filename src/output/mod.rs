@@ -15,6 +15,7 @@ pub mod parquet_recorder;
 pub mod recorder;
 pub mod run_data;
 pub mod scene;
+pub mod spread;
 pub mod summary;
 
 pub use columns::OutputColumns;
@@ -25,4 +26,5 @@ pub use parquet_recorder::{ParquetRecorder, RunMetadata};
 pub use recorder::{OutputFormat, RunRecorder, TableFormats};
 pub use run_data::{RunData, RunDataError, Table};
 pub use scene::Scene;
+pub use spread::Spread;
 pub use summary::{DeltaVSummary, RunStatus, RunSummary};

@@ -68,6 +68,10 @@ pub struct RunSummary {
     pub scenario: String,
     /// Where the scenario came from (path or `builtin:NAME`).
     pub source: String,
+    /// Where the controller came from when `--law` replaced the scenario's own (path or
+    /// `builtin:NAME`; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub controller: Option<String>,
     /// Seed of every random draw.
     pub seed: u64,
     /// The instant of t = 0, ISO 8601 in [`Self::time_system`]; every output time is this plus `t_s`

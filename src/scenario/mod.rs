@@ -4,6 +4,7 @@
 //! The format is documented in the README ("Scenario format") and by [`schema::ScenarioFile`].
 
 pub mod builtin;
+pub mod controller;
 pub mod initial;
 pub mod schema;
 mod validate;
@@ -12,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
+pub use controller::{Controller, ControllerFile, ControllerOrigin};
 pub use schema::ScenarioFile;
 pub use validate::{merge_law_parameters, Prepared};
 
@@ -154,6 +156,8 @@ pub struct Scenario {
     pub source: String,
     /// Directory that relative paths in the file are resolved against.
     pub base_dir: PathBuf,
+    /// The controller that replaced the file's own ([`Scenario::with_controller`]), if any.
+    pub controller: Option<ControllerOrigin>,
 }
 
 impl Scenario {
@@ -167,6 +171,7 @@ impl Scenario {
             file,
             source: source.to_string(),
             base_dir: base_dir.to_path_buf(),
+            controller: None,
         })
     }
 

@@ -147,9 +147,8 @@ impl Checker<'_> {
 /// Validates and translates a scenario.
 pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     let f = &scenario.file;
-    let c = Checker {
-        file: &scenario.source,
-    };
+    let sources = scenario.sources();
+    let c = Checker { file: &sources };
     if f.name.trim().is_empty() {
         return Err(c.invalid("name", "must not be empty"));
     }
@@ -1182,7 +1181,8 @@ fn events(
     let mut out = Vec::with_capacity(f.events.len());
     for k in order {
         let e = &f.events[k];
-        let key = |name: &str| format!("events[{k}].{name}");
+        let event = scenario.event_key(k);
+        let key = |name: &str| format!("{event}.{name}");
         if !(e.time_s.is_finite() && (0.0..=duration_s).contains(&e.time_s)) {
             return Err(c.invalid(
                 &key("time_s"),

@@ -86,7 +86,7 @@ fn medians(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
         .iter()
         .map(|g| {
             let ys: Vec<f64> = g.iter().map(|p| p.1).collect();
-            (g[0].0, satflock::campaign::summary::percentile(&ys, 0.5))
+            (g[0].0, satflock::output::spread::Spread::of(&ys).median)
         })
         .collect()
 }

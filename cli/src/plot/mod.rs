@@ -12,6 +12,8 @@
 //!
 //! A campaign's figure (`satflock campaign`, [`draw_campaign`]): `outcomes`, every headline outcome
 //! against every varied parameter, from the campaign's table (`campaign.rs`).
+//! [`overlay`] draws the figures of several runs at once (`satflock compare`: one metric, every law on
+//! one axis) from curves its caller computes.
 //!
 //! Output is deterministic (same run directory, same bytes): no timestamps, tracks in id order, a fixed
 //! embedded font (DejaVu Sans, `cli/assets/fonts/`, drawn by `ab_glyph` without system font libraries).
@@ -20,6 +22,7 @@
 
 mod campaign;
 mod delta_v;
+pub mod overlay;
 mod series;
 mod tracks;
 
@@ -27,6 +30,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use plotters::coord::ranged1d::ValueFormatter;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
@@ -101,7 +105,7 @@ impl PlotReport {
 /// One figure: its file name (without extension), size in pixels and drawing on any backend.
 trait Figure {
     /// File name without extension.
-    fn name(&self) -> &'static str;
+    fn name(&self) -> &str;
     /// Width and height \[px\].
     fn size(&self) -> (u32, u32);
     /// Draws the whole figure on `root` (already filled white).
@@ -405,12 +409,15 @@ pub(crate) fn caption<DB: DrawingBackend>(
     Ok(area.titled(text, (FONT, size::CAPTION))?)
 }
 
-/// Draws the mesh, tick labels and axis descriptions of a chart.
-pub(crate) fn axes<DB: DrawingBackend>(
-    chart: &mut Chart<'_, DB>,
+/// Draws the mesh, tick labels and axis descriptions of a chart (linear x; linear or logarithmic y).
+pub(crate) fn axes<DB: DrawingBackend, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
     x_desc: &str,
     y_desc: &str,
-) -> Result<(), DrawError> {
+) -> Result<(), DrawError>
+where
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
     chart
         .configure_mesh()
         .x_desc(x_desc)
@@ -428,10 +435,13 @@ pub(crate) fn axes<DB: DrawingBackend>(
 }
 
 /// Draws the legend of a chart's labelled series.
-pub(crate) fn legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
+pub(crate) fn legend<'a, DB: DrawingBackend + 'a, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
     position: SeriesLabelPosition,
-) -> Result<(), DrawError> {
+) -> Result<(), DrawError>
+where
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
     chart
         .configure_series_labels()
         .position(position)

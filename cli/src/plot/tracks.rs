@@ -343,8 +343,8 @@ const TRACK_COLOURS: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Colour of satellite `id`'s track (the same in every figure).
-fn track_colour(id: usize) -> RGBColor {
+/// Colour of satellite `id`'s track (the same in every figure), and of the k-th series of an overlay.
+pub(crate) fn track_colour(id: usize) -> RGBColor {
     TRACK_COLOURS[id % TRACK_COLOURS.len()]
 }
 

@@ -280,7 +280,15 @@ impl EquilibriumShaping {
         }
         let threats = &started.threat_velocities_hill_mps;
         if threats.is_empty() {
-            return Ok(None);
+            // Without threats the law only shapes; a threat named beyond the default is a mistake
+            // (e.g. this law's controller put on a case without the threat it was written for).
+            return match p.threat {
+                0 => Ok(None),
+                k => Err(invalid(format!(
+                    "threat = {k} but the scenario has no threats (allowed: 0, the default, which \
+                     has no effect without threats)"
+                ))),
+            };
         }
         let Some(v_t) = threats.get(p.threat) else {
             return Err(invalid(format!(
