@@ -251,6 +251,11 @@ fn val_report_embeds_plots_sorted_and_says_when_there_is_no_trajectory() {
     std::fs::write(plots.join("b-separation.svg"), svg).unwrap();
     std::fs::write(plots.join("a-elements.svg"), svg).unwrap();
     std::fs::write(plots.join("notes.txt"), "not a plot").unwrap();
+    // A figure written as SVG and PNG (as `satflock plot` does) appears once, as its SVG; a PNG alone
+    // appears as itself.
+    let png = [0x89u8, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
+    std::fs::write(plots.join("a-elements.png"), png).unwrap();
+    std::fs::write(plots.join("c-only.png"), png).unwrap();
     assert!(report(&out).status.success());
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("id=\"viewer-none\""));
@@ -269,6 +274,8 @@ fn val_report_embeds_plots_sorted_and_says_when_there_is_no_trajectory() {
         2
     );
     assert!(!html.contains("notes.txt"));
+    assert!(!html.contains("alt=\"a-elements.png\""));
+    assert!(html.contains("alt=\"c-only.png\""));
     assert!(
         !html.contains("http://"),
         "the SVG's namespace is inside the data URL"

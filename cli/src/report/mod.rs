@@ -547,6 +547,15 @@ fn read_plots(dir: &Path) -> Result<Vec<Plot>, RunDataError> {
         let bytes = std::fs::read(&path).map_err(|e| error(&path, e))?;
         plots.push(Plot { name, mime, bytes });
     }
+    // Each figure once: `satflock plot` writes every figure as SVG and PNG; the SVG (vector, crisp
+    // text) is kept, a PNG only where no SVG of the same name exists.
+    let stem = |name: &str| name.rsplit_once('.').map_or(name, |(s, _)| s).to_string();
+    let svg_stems: Vec<String> = plots
+        .iter()
+        .filter(|p| p.mime == "image/svg+xml")
+        .map(|p| stem(&p.name))
+        .collect();
+    plots.retain(|p| p.mime == "image/svg+xml" || !svg_stems.contains(&stem(&p.name)));
     plots.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(plots)
 }
