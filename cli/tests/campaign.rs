@@ -4,23 +4,15 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use satflock::output::outcomes::{scalar_outcomes, RunTable};
 
+mod common;
+use common::{satflock, scratch_dir, stderr};
+
 /// Outcomes that measure the machine, not the run.
 const WALL_TIME: &[&str] = &["wall_time_s", "satellite_steps_per_s"];
-
-fn satflock() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("satflock-campaign-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn campaign(file: &Path, out: &Path, extra: &[&str]) -> Output {
     satflock()
@@ -32,10 +24,6 @@ fn campaign(file: &Path, out: &Path, extra: &[&str]) -> Output {
         .args(extra)
         .output()
         .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// 4 satellites holding their slots for 60 s with navigation noise (so the seed matters): a Latin

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 mod common;
-use common::{satflock, scratch_dir};
+use common::{satflock, scratch_dir, stderr};
 
 /// A built-in scenario's text with replacements (each must apply), written to `dir/NAME.toml`.
 fn builtin_file(dir: &Path, name: &str, replacements: &[(&str, &str)]) -> PathBuf {
@@ -48,10 +48,6 @@ fn characterize(file: &Path, extra: &[&str]) -> Output {
         .args(extra)
         .output()
         .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn json(o: &Output) -> serde_json::Value {

@@ -4,9 +4,12 @@
 //! read back against the Markdown numbers, and outputs independent of `--jobs`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use satflock::output::RunTable;
+
+mod common;
+use common::satflock;
 
 /// The case: process noise so that runs differ by seed beyond their initial states; a threat with a
 /// warning (a case event) and a slot change (a law event of the case's own `hold` law).
@@ -74,10 +77,6 @@ const CONTROLLERS: &[(&str, &str)] = &[
     ),
 ];
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
-}
-
 /// A fresh temporary directory with the case and the controller files.
 fn setup(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("satflock-compare-{name}-{}", std::process::id()));
@@ -93,7 +92,7 @@ fn setup(name: &str) -> PathBuf {
 /// `satflock compare` of the case with every controller and `builtin:es-e1` (the equilibrium-shaping
 /// rhombus: 4 nodes for 3 satellites, refused), seeds 1..3.
 fn compare(dir: &Path, out: &str, extra: &[&str]) -> Output {
-    let mut command = bin();
+    let mut command = satflock();
     command.arg("compare").arg(dir.join("case.toml"));
     for (file, _) in CONTROLLERS {
         command.arg("--law").arg(dir.join("laws").join(file));
@@ -140,7 +139,7 @@ fn a_controller_file_with_a_case_key_is_refused_naming_file_and_key() {
         "[law]\nname = \"none\"\n\n[sensing]\nrange_m = 10.0\n",
     )
     .unwrap();
-    let out = bin()
+    let out = satflock()
         .arg("run")
         .arg(dir.join("case.toml"))
         .arg("--law")
@@ -162,7 +161,7 @@ fn a_controller_file_with_a_case_key_is_refused_naming_file_and_key() {
         "[law]\nname = \"none\"\n\n[[events]]\ntime_s = 1.0\naction = \"threat-warning\"\nthreat = 0\nactive = false\n",
     )
     .unwrap();
-    let out = bin()
+    let out = satflock()
         .arg("compare")
         .arg(dir.join("case.toml"))
         .arg("--law")
@@ -182,7 +181,7 @@ fn a_controller_file_with_a_case_key_is_refused_naming_file_and_key() {
 fn run_law_replaces_the_law_and_law_events_and_keeps_case_events() {
     let dir = setup("run-law");
     let out_dir = dir.join("out");
-    let out = bin()
+    let out = satflock()
         .arg("run")
         .arg(dir.join("case.toml"))
         .arg("--law")
@@ -208,7 +207,7 @@ fn run_law_replaces_the_law_and_law_events_and_keeps_case_events() {
     assert_eq!(events.len(), 1);
     assert_eq!(events[0]["action"].as_str(), Some("threat-warning"));
     // Without --law the summary has no controller key.
-    let out = bin()
+    let out = satflock()
         .arg("run")
         .arg(dir.join("case.toml"))
         .args(["--quiet", "--no-plots", "--out"])

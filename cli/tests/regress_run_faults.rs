@@ -8,18 +8,10 @@ use std::time::{Duration, Instant};
 
 use satflock::scenario::builtin::BUILTINS;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_satflock"))
-}
+mod common;
+use common::{satflock, scratch_dir, stderr};
 
 /// A fresh temporary directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("satflock-faults-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// A built-in scenario's TOML with some `key = value` lines replaced (each `from` must occur).
 fn builtin_with(name: &str, replacements: &[(&str, &str)]) -> String {
     let mut text = BUILTINS
@@ -42,7 +34,7 @@ fn write_scenario(dir: &Path, text: &str) -> PathBuf {
 }
 
 fn run_to(scenario: &Path, out: &Path, extra: &[&str]) -> Output {
-    bin()
+    satflock()
         .arg("run")
         .arg(scenario)
         .arg("--out")
@@ -51,10 +43,6 @@ fn run_to(scenario: &Path, out: &Path, extra: &[&str]) -> Output {
         .args(extra)
         .output()
         .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn summary(out: &Path) -> serde_json::Value {
@@ -122,7 +110,7 @@ fn long_free_drift(dir: &Path) -> PathBuf {
 
 /// Spawns a run and waits until `file` in its output has more than `lines` lines.
 fn spawn_until(scenario: &Path, out: &Path, file: &str, lines: usize) -> Child {
-    let child = bin()
+    let child = satflock()
         .arg("run")
         .arg(scenario)
         .arg("--out")
@@ -154,7 +142,7 @@ fn kill(child: &Child, signal: &str) {
 
 #[test]
 fn regress_sigterm_closes_files_and_writes_interrupted_summary() {
-    let dir = temp_dir("sigterm");
+    let dir = scratch_dir("sigterm");
     let scenario = long_free_drift(&dir);
     let out = dir.join("out");
     let child = spawn_until(&scenario, &out, "metrics.csv", 3);
@@ -180,7 +168,7 @@ fn regress_sigterm_closes_files_and_writes_interrupted_summary() {
 
 #[test]
 fn regress_sigint_exits_130_with_interrupted_summary() {
-    let dir = temp_dir("sigint");
+    let dir = scratch_dir("sigint");
     let scenario = long_free_drift(&dir);
     let out = dir.join("out");
     let child = spawn_until(&scenario, &out, "metrics.csv", 3);
@@ -197,7 +185,7 @@ fn regress_sigkill_leaves_only_whole_trajectory_rows() {
     // Each record (50 rows of trajectory.csv) is written in one piece: a SIGKILL loses whole records,
     // except that the kernel may cut one large write() short, leaving an unterminated last line (seen
     // once under heavy load). Repeated to land the kill at different points of the writing.
-    let dir = temp_dir("sigkill");
+    let dir = scratch_dir("sigkill");
     let scenario = long_free_drift(&dir);
     for attempt in 0..3 {
         let out = dir.join(format!("out{attempt}"));
@@ -212,11 +200,11 @@ fn regress_sigkill_leaves_only_whole_trajectory_rows() {
 
 #[test]
 fn regress_out_dir_not_a_previous_run_is_refused() {
-    let dir = temp_dir("foreign");
+    let dir = scratch_dir("foreign");
     let out = dir.join("mine");
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("notes.txt"), "keep me").unwrap();
-    let o = bin()
+    let o = satflock()
         .args(["run", "free-drift", "--quiet", "--out"])
         .arg(&out)
         .output()
@@ -233,7 +221,7 @@ fn regress_out_dir_not_a_previous_run_is_refused() {
     );
     assert!(!out.join("metrics.csv").exists());
     // A file given as --out is refused too.
-    let o = bin()
+    let o = satflock()
         .args(["run", "free-drift", "--quiet", "--out"])
         .arg(out.join("notes.txt"))
         .output()
@@ -244,7 +232,7 @@ fn regress_out_dir_not_a_previous_run_is_refused() {
 
 #[test]
 fn regress_out_dir_of_previous_run_is_cleared_first() {
-    let dir = temp_dir("previous");
+    let dir = scratch_dir("previous");
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
     // A previous run's files: an old completed summary and a trajectory the new run does not write.
@@ -274,8 +262,8 @@ fn regress_out_dir_of_previous_run_is_cleared_first() {
 
 #[test]
 fn regress_propagate_out_directory_is_refused_without_partial_file() {
-    let dir = temp_dir("propagate-dir");
-    let o = bin()
+    let dir = scratch_dir("propagate-dir");
+    let o = satflock()
         .args([
             "propagate",
             "--elements",
@@ -306,7 +294,7 @@ fn regress_propagate_out_directory_is_refused_without_partial_file() {
 
 #[test]
 fn regress_no_nan_in_metrics_of_j2_distance_first_row() {
-    let dir = temp_dir("nan");
+    let dir = scratch_dir("nan");
     let scenario = write_scenario(
         &dir,
         &builtin_with(
@@ -360,7 +348,7 @@ fn colliding(dir: &Path, extra_output: &str) -> PathBuf {
 
 #[test]
 fn regress_collisions_warn_and_complete_unless_fail_on_collision() {
-    let dir = temp_dir("collisions");
+    let dir = scratch_dir("collisions");
     let scenario = colliding(&dir, "");
     let out = dir.join("out");
     let o = run_to(&scenario, &out, &[]);
@@ -383,7 +371,7 @@ fn regress_collisions_warn_and_complete_unless_fail_on_collision() {
 
 #[test]
 fn regress_delta_v_budget_warns_and_is_range_checked() {
-    let dir = temp_dir("budget");
+    let dir = scratch_dir("budget");
     let out = dir.join("out");
     let scenario = colliding(&dir, "delta_v_budget_mps = 1e-12");
     let o = run_to(&scenario, &out, &[]);
@@ -415,9 +403,9 @@ fn regress_delta_v_budget_warns_and_is_range_checked() {
 
 #[test]
 fn regress_threads_out_of_range_refused_with_range() {
-    let dir = temp_dir("threads");
+    let dir = scratch_dir("threads");
     for value in ["100000", "-1", "0", "1025"] {
-        let o = bin()
+        let o = satflock()
             .args(["run", "free-drift", "--quiet", "--threads", value, "--out"])
             .arg(dir.join("out"))
             .output()
@@ -440,13 +428,13 @@ fn regress_threads_out_of_range_refused_with_range() {
 
 #[test]
 fn regress_negative_numbers_parsed_and_refused_with_range() {
-    let dir = temp_dir("negative");
+    let dir = scratch_dir("negative");
     let out = dir.join("orbit.csv");
     for (flag, rest) in [
         ("--duration-s", ["--output-step-s", "60"]),
         ("--output-step-s", ["--duration-s", "600"]),
     ] {
-        let o = bin()
+        let o = satflock()
             .args(["propagate", "--elements", "6978137,0.001,97.8,0,0,0"])
             .args([flag, "-1"])
             .args(rest)

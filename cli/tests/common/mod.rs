@@ -1,10 +1,10 @@
-//! Helpers shared by the command-line tests: the `satflock` binary under test and a fresh scratch
-//! folder per test.
+//! Helpers shared by the command-line tests: the `satflock` binary under test, a fresh scratch folder
+//! per test, and a command's standard error.
 // Each test binary compiles this module and may use only part of it.
 #![allow(dead_code)]
 
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// The `satflock` binary built for these tests.
 pub fn satflock() -> Command {
@@ -21,4 +21,9 @@ pub fn scratch_dir(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
+}
+
+/// A finished command's standard error as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
 }
