@@ -1,0 +1,21 @@
+"""satflock: simulate and steer satellite swarms and clusters in Earth orbit under J2.
+
+SI units throughout (m, s, kg, rad); relative states are in the Hill LVLH frame (x radial out, y
+along-track, z orbit normal) about the LVLH origin, inertial states in EME2000 (see docs/python.md).
+"""
+
+from ._native import (
+    CampaignError,
+    Scenario,
+    ScenarioError,
+    SimulationError,
+    __version__,
+)
+
+__all__ = [
+    "CampaignError",
+    "Scenario",
+    "ScenarioError",
+    "SimulationError",
+    "__version__",
+]

@@ -1,0 +1,24 @@
+//! `satflock._native`: the compiled half of the Python package `satflock` (pyo3). The pure-Python package
+//! (`python/satflock/`) re-exports it with docstrings and adds what is Python's own (pyarrow tables, the
+//! Ray backend of campaigns).
+//!
+//! | module | holds |
+//! | --- | --- |
+//! | `errors.rs` | the Python exceptions and the conversion of satflock's errors into them |
+//! | `convert.rs` | TOML values <-> Python objects |
+//! | `scenario.rs` | `Scenario`: load, from TOML or a dict, dotted-key access, validation |
+
+mod convert;
+mod errors;
+mod scenario;
+
+use pyo3::prelude::*;
+
+/// The compiled module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    errors::register(m)?;
+    m.add_class::<scenario::PyScenario>()?;
+    Ok(())
+}
