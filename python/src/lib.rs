@@ -6,9 +6,15 @@
 //! | --- | --- |
 //! | `errors.rs` | the Python exceptions and the conversion of satflock's errors into them |
 //! | `convert.rs` | TOML values <-> Python objects |
+//! | `detached.rs` | Rust work off the GIL, on chosen threads, stopped by Ctrl-C |
 //! | `scenario.rs` | `Scenario`: load, from TOML or a dict, dotted-key access, validation |
 
 mod convert;
+#[expect(
+    dead_code,
+    reason = "used by run, Simulation and campaign (next commits)"
+)]
+mod detached;
 mod errors;
 mod scenario;
 
