@@ -1,11 +1,12 @@
-//! Propagation of one or a few orbits (no control), with outputs at exact multiples of an output step:
-//! the library side of `satflock propagate`.
+//! Propagation of one or a few orbits (no control), with outputs at exact multiples of an output step,
+//! and the frames the states are given out in ([`OutputFrame`]): the library side of `satflock
+//! propagate` and of the Python package's `satflock.propagate`.
 
 use thiserror::Error;
 
 use crate::integrate::{IntegrateError, IntegratorMethod, Stepper, Tolerances};
 
-use crate::orbit::{CartesianState, EarthModel, GravityModel};
+use crate::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel, LvlhFrame};
 
 /// How to propagate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -133,6 +134,47 @@ impl PropagationSettings {
             )));
         }
         Ok(())
+    }
+}
+
+/// The frame a propagated state is given out in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFrame {
+    /// The inertial frame of the propagation (EME2000).
+    Inertial,
+    /// The Hill LVLH frame of a reference orbit (x radial out, y along-track, z orbit normal).
+    LvlhHill,
+    /// Gao's o-xyz LVLH frame of a reference orbit (x along-track, y minus orbit normal, z nadir).
+    LvlhGao,
+}
+
+impl OutputFrame {
+    /// Whether the frame is a reference orbit's (needs a reference state).
+    pub fn needs_reference(self) -> bool {
+        self != OutputFrame::Inertial
+    }
+
+    /// `satellite` (inertial) in this frame, as `[x, y, z, vx, vy, vz]` \[m, m/s\]: as it is, or
+    /// relative to `reference` (inertial, at the same time) with the velocity seen in the rotating
+    /// frame ([`LvlhFrame::to_hill`]). `reference` is not used by [`OutputFrame::Inertial`]; the LVLH
+    /// frames without one give the inertial state.
+    pub fn express(
+        self,
+        satellite: &CartesianState,
+        reference: Option<&CartesianState>,
+    ) -> [f64; 6] {
+        let (p, v) = match (self, reference) {
+            (OutputFrame::LvlhHill | OutputFrame::LvlhGao, Some(reference)) => {
+                let rel = LvlhFrame::from_reference(reference).to_hill(satellite);
+                if self == OutputFrame::LvlhHill {
+                    (rel.position_m, rel.velocity_mps)
+                } else {
+                    (hill_to_gao(&rel.position_m), hill_to_gao(&rel.velocity_mps))
+                }
+            }
+            _ => (satellite.position_m, satellite.velocity_mps),
+        };
+        [p.x, p.y, p.z, v.x, v.y, v.z]
     }
 }
 
