@@ -68,7 +68,10 @@ pub const MIN_PERIGEE_ALTITUDE_M: f64 = 100e3;
 pub const MAX_OUTPUTS: f64 = 1e7;
 
 impl PropagationSettings {
-    fn check(&self) -> Result<(), PropagateError> {
+    /// Refuses settings out of range (each named, with its allowed range): durations and steps not
+    /// finite and positive, tolerances out of range, too many outputs, Earth constants that are not
+    /// finite and positive (J2: >= 0). [`propagate`] applies it first.
+    pub fn check(&self) -> Result<(), PropagateError> {
         let positive = |setting, value: f64| {
             if value.is_finite() && value > 0.0 {
                 Ok(())
@@ -81,6 +84,15 @@ impl PropagationSettings {
             }
         };
         positive("duration_s", self.duration_s)?;
+        positive("mu_m3_s2", self.earth.mu_m3_s2)?;
+        positive("earth_radius_m", self.earth.equatorial_radius_m)?;
+        if !(self.earth.j2.is_finite() && self.earth.j2 >= 0.0) {
+            return Err(PropagateError::InvalidSetting {
+                setting: "j2",
+                value: self.earth.j2,
+                allowed: "finite, >= 0",
+            });
+        }
         positive("output_step_s", self.output_step_s)?;
         positive("step_s", self.step_s)?;
         positive("rtol", self.tolerances.relative)?;
