@@ -10,6 +10,8 @@ from ._native import (
     ScenarioError,
     SimulationError,
     __version__,
+    characterize,
+    propagate,
 )
 
 __all__ = [
@@ -18,4 +20,6 @@ __all__ = [
     "ScenarioError",
     "SimulationError",
     "__version__",
+    "characterize",
+    "propagate",
 ]
