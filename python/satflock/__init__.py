@@ -13,6 +13,7 @@ from ._native import (
     characterize,
     propagate,
 )
+from ._campaign import campaign
 
 __all__ = [
     "CampaignError",
@@ -20,6 +21,7 @@ __all__ = [
     "ScenarioError",
     "SimulationError",
     "__version__",
+    "campaign",
     "characterize",
     "propagate",
 ]
