@@ -81,7 +81,7 @@ class _Progress:
         if self.enabled:
             sys.stderr.write(
                 f"\rcampaign: {self.done}/{self.total} runs done, {self.not_completed} not completed, "
-                f"{self.running} running "
+                f"{self.running} in progress "
             )
             sys.stderr.flush()
 
@@ -138,7 +138,7 @@ def campaign(
         cpus_per_run: CPUs (Ray's ``num_cpus``) and rayon threads of each Ray task, >= 1. The local
             backend runs each run on one thread (only 1 is accepted there). A run's result does not
             depend on its thread count.
-        progress: a progress line on stderr (runs done, not completed, running).
+        progress: a progress line on stderr (runs done, not completed, in progress).
 
     Returns a ``pyarrow.Table`` (see docs/campaigns.md, ``campaign.parquet``): ``status``, ``error``,
     ``seed`` (text), ``run``, ``point``, ``parameter.KEY`` for each varied key, then every scalar
