@@ -1,11 +1,12 @@
-//! Propagation of one or a few orbits (no control), with outputs at exact multiples of an output step:
-//! the library side of `satflock propagate`.
+//! Propagation of one or a few orbits (no control), with outputs at exact multiples of an output step,
+//! and the frames the states are given out in ([`OutputFrame`]): the library side of `satflock
+//! propagate` and of the Python package's `satflock.propagate`.
 
 use thiserror::Error;
 
 use crate::integrate::{IntegrateError, IntegratorMethod, Stepper, Tolerances};
 
-use crate::orbit::{CartesianState, EarthModel, GravityModel};
+use crate::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel, LvlhFrame};
 
 /// How to propagate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -67,7 +68,10 @@ pub const MIN_PERIGEE_ALTITUDE_M: f64 = 100e3;
 pub const MAX_OUTPUTS: f64 = 1e7;
 
 impl PropagationSettings {
-    fn check(&self) -> Result<(), PropagateError> {
+    /// Refuses settings out of range (each named, with its allowed range): durations and steps not
+    /// finite and positive, tolerances out of range, too many outputs, Earth constants that are not
+    /// finite and positive (J2: >= 0). [`propagate`] applies it first.
+    pub fn check(&self) -> Result<(), PropagateError> {
         let positive = |setting, value: f64| {
             if value.is_finite() && value > 0.0 {
                 Ok(())
@@ -80,6 +84,15 @@ impl PropagationSettings {
             }
         };
         positive("duration_s", self.duration_s)?;
+        positive("mu_m3_s2", self.earth.mu_m3_s2)?;
+        positive("earth_radius_m", self.earth.equatorial_radius_m)?;
+        if !(self.earth.j2.is_finite() && self.earth.j2 >= 0.0) {
+            return Err(PropagateError::InvalidSetting {
+                setting: "j2",
+                value: self.earth.j2,
+                allowed: "finite, >= 0",
+            });
+        }
         positive("output_step_s", self.output_step_s)?;
         positive("step_s", self.step_s)?;
         positive("rtol", self.tolerances.relative)?;
@@ -133,6 +146,47 @@ impl PropagationSettings {
             )));
         }
         Ok(())
+    }
+}
+
+/// The frame a propagated state is given out in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFrame {
+    /// The inertial frame of the propagation (EME2000).
+    Inertial,
+    /// The Hill LVLH frame of a reference orbit (x radial out, y along-track, z orbit normal).
+    LvlhHill,
+    /// Gao's o-xyz LVLH frame of a reference orbit (x along-track, y minus orbit normal, z nadir).
+    LvlhGao,
+}
+
+impl OutputFrame {
+    /// Whether the frame is a reference orbit's (needs a reference state).
+    pub fn needs_reference(self) -> bool {
+        self != OutputFrame::Inertial
+    }
+
+    /// `satellite` (inertial) in this frame, as `[x, y, z, vx, vy, vz]` \[m, m/s\]: as it is, or
+    /// relative to `reference` (inertial, at the same time) with the velocity seen in the rotating
+    /// frame ([`LvlhFrame::to_hill`]). `reference` is not used by [`OutputFrame::Inertial`]; the LVLH
+    /// frames without one give the inertial state.
+    pub fn express(
+        self,
+        satellite: &CartesianState,
+        reference: Option<&CartesianState>,
+    ) -> [f64; 6] {
+        let (p, v) = match (self, reference) {
+            (OutputFrame::LvlhHill | OutputFrame::LvlhGao, Some(reference)) => {
+                let rel = LvlhFrame::from_reference(reference).to_hill(satellite);
+                if self == OutputFrame::LvlhHill {
+                    (rel.position_m, rel.velocity_mps)
+                } else {
+                    (hill_to_gao(&rel.position_m), hill_to_gao(&rel.velocity_mps))
+                }
+            }
+            _ => (satellite.position_m, satellite.velocity_mps),
+        };
+        [p.x, p.y, p.z, v.x, v.y, v.z]
     }
 }
 

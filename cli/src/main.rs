@@ -18,14 +18,12 @@ mod campaign;
 mod characterize;
 
 use satflock::integrate::{IntegratorMethod, Tolerances};
-use satflock::orbit::{
-    hill_to_gao, CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame, Vector3,
-};
+use satflock::orbit::{CartesianState, EarthModel, GravityModel, KeplerianElements, Vector3};
 use satflock::output::export::write_whole;
 use satflock::output::oem::{self, OemMessage, OemObject};
 use satflock::output::OutputFormat;
 use satflock::output::{frames, InertialTrack};
-use satflock::propagate::{propagate, PropagationSettings};
+use satflock::propagate::{propagate, OutputFrame, PropagationSettings};
 use satflock::run::{run_scenario_with, RunError, RunOptions};
 use satflock::scenario::{builtin, Controller, Scenario};
 use satflock::swarm::SimError;
@@ -854,6 +852,11 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             .check_orbit(index, orbit)
             .map_err(|e| usage(format!("{option}: {e}")))?;
     }
+    let output_frame = match args.frame {
+        FrameArg::Inertial => OutputFrame::Inertial,
+        FrameArg::LvlhHill => OutputFrame::LvlhHill,
+        FrameArg::LvlhGao => OutputFrame::LvlhGao,
+    };
     let mut text = String::from("t_s,x_m,y_m,z_m,vx_mps,vy_mps,vz_mps\n");
     let mut rows = 0usize;
     let mut last = (0.0, [0.0; 6]);
@@ -868,23 +871,13 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             inertial.t_s.push(t);
             inertial.states.push([p.x, p.y, p.z, v.x, v.y, v.z]);
         }
-        let (p, v) = match args.frame {
-            FrameArg::Inertial => (states[0].position_m, states[0].velocity_mps),
-            FrameArg::LvlhHill | FrameArg::LvlhGao => {
-                let rel = LvlhFrame::from_reference(&states[1]).to_hill(&states[0]);
-                if args.frame == FrameArg::LvlhHill {
-                    (rel.position_m, rel.velocity_mps)
-                } else {
-                    (hill_to_gao(&rel.position_m), hill_to_gao(&rel.velocity_mps))
-                }
-            }
-        };
+        let s = output_frame.express(&states[0], states.get(1));
         text.push_str(&format!(
             "{t},{},{},{},{},{},{}\n",
-            p.x, p.y, p.z, v.x, v.y, v.z
+            s[0], s[1], s[2], s[3], s[4], s[5]
         ));
         rows += 1;
-        last = (t, [p.x, p.y, p.z, v.x, v.y, v.z]);
+        last = (t, s);
     })
     .map_err(|e| match e {
         satflock::propagate::PropagateError::InvalidSetting { .. }

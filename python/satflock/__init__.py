@@ -10,7 +10,10 @@ from ._native import (
     ScenarioError,
     SimulationError,
     __version__,
+    characterize,
+    propagate,
 )
+from ._campaign import campaign
 
 __all__ = [
     "CampaignError",
@@ -18,4 +21,7 @@ __all__ = [
     "ScenarioError",
     "SimulationError",
     "__version__",
+    "campaign",
+    "characterize",
+    "propagate",
 ]

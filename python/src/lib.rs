@@ -8,12 +8,12 @@
 //! | `convert.rs` | TOML values <-> Python objects |
 //! | `detached.rs` | Rust work off the GIL, on chosen threads, stopped by Ctrl-C |
 //! | `scenario.rs` | `Scenario`: load, from TOML or a dict, dotted-key access, validation |
+//! | `analysis.rs` | `characterize` (the five elements) and `propagate` (orbits without control) |
+//! | `campaign.rs` | `CampaignPlan`, `CampaignOutput`: campaigns, locally or step by step for Ray |
 
+mod analysis;
+mod campaign;
 mod convert;
-#[expect(
-    dead_code,
-    reason = "used by run, Simulation and campaign (next commits)"
-)]
 mod detached;
 mod errors;
 mod scenario;
@@ -26,5 +26,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
     m.add_class::<scenario::PyScenario>()?;
+    m.add_function(wrap_pyfunction!(analysis::characterize, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::propagate, m)?)?;
+    m.add_class::<campaign::CampaignPlan>()?;
+    m.add_class::<campaign::CampaignOutput>()?;
     Ok(())
 }

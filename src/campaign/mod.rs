@@ -10,7 +10,7 @@
 //! | `sampling.rs` | grid products; Latin hypercube and random samples of ranges, linear or log |
 //! | `pool.rs` | the bounded pool of whole runs, each on one thread (also used by `satflock validate`) |
 //! | `manifest.rs` | `manifest.jsonl`: header and one record per finished run, read back to resume |
-//! | `runner.rs` | the runner: output directory, runs in parallel, records, table and summary |
+//! | `runner.rs` | the runner: output directory, runs in parallel, records, table and summary (also as separate steps, for other executors) |
 //! | `table.rs` | `campaign.parquet`: one row per run |
 //! | `summary.rs` | percentiles and `summary.md` |
 
@@ -27,7 +27,7 @@ use thiserror::Error;
 
 pub use file::{Campaign, Parameter, RunSpec, Values};
 pub use manifest::{RunRecord, Status};
-pub use runner::{run_campaign, CampaignReport, RunEvent, RunnerOptions};
+pub use runner::{run_campaign, CampaignReport, Prepared, RunEvent, RunnerOptions};
 
 /// A campaign that cannot be read or run.
 #[derive(Debug, Error)]

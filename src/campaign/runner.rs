@@ -2,6 +2,11 @@
 //! thread ([`super::pool::run_bounded`]), so runs × threads per run ≤ jobs; then `campaign.parquet`
 //! and `summary.md` from every run's record.
 //!
+//! [`run_campaign`] is three public steps, which another executor (the Python package's Ray backend:
+//! one run per task, records gathered by the driver) uses as they are: [`prepare`] the output
+//! directory (resume included), [`execute`] each run into its folder and get its [`RunRecord`]
+//! (appended to the manifest as it comes), [`finish`] with the table and the summary.
+//!
 //! Output directory (`--out`):
 //!
 //! | path | what |
@@ -93,37 +98,27 @@ pub fn default_jobs() -> usize {
     std::thread::available_parallelism().map_or(1, usize::from)
 }
 
-/// Runs `campaign` into `out` (see the module documentation). `events` is called from the worker
-/// threads. Errors are the output directory's (not empty, a manifest that does not match) or a file
-/// that cannot be written; a run's failure is not an error.
+/// Runs `campaign` into `out` (see the module documentation): [`prepare`], then every run to do through
+/// [`execute`] in the bounded pool (each record appended to the manifest as it finishes), then
+/// [`finish`]. `events` is called from the worker threads. Errors are the output directory's (not empty,
+/// a manifest that does not match) or a file that cannot be written; a run's failure is not an error.
 pub fn run_campaign(
     campaign: &Campaign,
     out: &Path,
     options: &RunnerOptions,
     events: &(dyn Fn(RunEvent) + Sync),
 ) -> Result<CampaignReport, CampaignError> {
-    let manifest_path = out.join(manifest::FILE_NAME);
-    let previous = prepare_output(campaign, out, options.resume)?;
-    let complete: BTreeMap<usize, RunRecord> = previous
-        .iter()
-        .filter(|(_, r)| r.status == Status::Completed)
-        .map(|(&k, r)| (k, r.clone()))
-        .collect();
-    let previous_records: Vec<RunRecord> = previous.into_values().collect();
-    let writer = Mutex::new(manifest::Writer::create(
-        &manifest_path,
-        &Header::of(campaign),
-        &previous_records,
-    )?);
-    let to_run: Vec<RunSpec> = campaign
-        .runs()
-        .into_iter()
-        .filter(|r| !complete.contains_key(&r.index))
-        .collect();
+    let Prepared {
+        to_run,
+        previous,
+        already_complete,
+        manifest,
+    } = prepare(campaign, out, options.resume)?;
     events(RunEvent::Planned {
         to_run: to_run.len(),
-        already_complete: complete.len(),
+        already_complete,
     });
+    let writer = Mutex::new(manifest);
     let keep_runs = options.keep_runs || campaign.keep_runs;
     let cancelled = || {
         options
@@ -150,8 +145,70 @@ pub fn run_campaign(
     }
     let ran: Vec<RunRecord> = finished.into_iter().flatten().collect();
     let ran_count = ran.len();
-    let mut last: BTreeMap<usize, RunRecord> =
-        previous_records.into_iter().map(|r| (r.run, r)).collect();
+    let (records, table) = finish(campaign, out, previous, ran)?;
+    Ok(CampaignReport {
+        outcomes: summary::headline_outcomes(campaign, &table),
+        records,
+        ran: ran_count,
+        already_complete,
+        interrupted: cancelled(),
+        table,
+    })
+}
+
+/// A campaign's output directory made ready by [`prepare`]: what is left to run and the manifest, open
+/// for appending each finished run's record.
+pub struct Prepared {
+    /// The runs to do, in index order: every run the manifest does not record as completed.
+    pub to_run: Vec<RunSpec>,
+    /// The manifest's last record of every run before this invocation (empty unless resuming).
+    pub previous: Vec<RunRecord>,
+    /// Runs the manifest recorded as completed before this invocation.
+    pub already_complete: usize,
+    /// The manifest, rewritten with its header and `previous` (a line cut short dropped); append each
+    /// finished run's record to it ([`manifest::Writer::append`]).
+    pub manifest: manifest::Writer,
+}
+
+/// Prepares `out` for `campaign`: without `resume` it must be a new path or an empty directory; with
+/// it, it may also hold a manifest of this campaign, whose completed runs are kept. Writes the
+/// manifest's header (and the kept records) and says which runs are left.
+pub fn prepare(campaign: &Campaign, out: &Path, resume: bool) -> Result<Prepared, CampaignError> {
+    let previous = prepare_output(campaign, out, resume)?;
+    let previous: Vec<RunRecord> = previous.into_values().collect();
+    let complete: Vec<usize> = previous
+        .iter()
+        .filter(|r| r.status == Status::Completed)
+        .map(|r| r.run)
+        .collect();
+    let manifest = manifest::Writer::create(
+        &out.join(manifest::FILE_NAME),
+        &Header::of(campaign),
+        &previous,
+    )?;
+    let to_run = campaign
+        .runs()
+        .into_iter()
+        .filter(|r| complete.binary_search(&r.index).is_err())
+        .collect();
+    Ok(Prepared {
+        to_run,
+        already_complete: complete.len(),
+        previous,
+        manifest,
+    })
+}
+
+/// Writes `campaign.parquet` (when a run finished) and `summary.md` into `out` from the records of
+/// the runs: `previous` (a resumed manifest's) and `ran` (this invocation's, in any order; a run in
+/// both counts as in `ran`). Returns every run's last record in run order, and the table.
+pub fn finish(
+    campaign: &Campaign,
+    out: &Path,
+    previous: Vec<RunRecord>,
+    ran: Vec<RunRecord>,
+) -> Result<(Vec<RunRecord>, RunTable), CampaignError> {
+    let mut last: BTreeMap<usize, RunRecord> = previous.into_iter().map(|r| (r.run, r)).collect();
     last.extend(ran.into_iter().map(|r| (r.run, r)));
     let records: Vec<RunRecord> = last.into_values().collect();
     let table = table::build(campaign, &records);
@@ -176,14 +233,7 @@ pub fn run_campaign(
     let summary_path = out.join(summary::FILE_NAME);
     std::fs::write(&summary_path, summary::markdown(campaign, &records, &table))
         .map_err(|e| output(&summary_path, e))?;
-    Ok(CampaignReport {
-        outcomes: summary::headline_outcomes(campaign, &table),
-        records,
-        ran: ran_count,
-        already_complete: complete.len(),
-        interrupted: cancelled(),
-        table,
-    })
+    Ok((records, table))
 }
 
 /// Checks the output directory and returns the manifest's last record per run when resuming. Without
@@ -249,8 +299,11 @@ fn prepare_output(
 }
 
 /// Runs one run into `out/runs/NNNNN/` and returns its record (never an error: a run that cannot run
-/// is recorded as refused or failed).
-fn execute(
+/// is recorded as refused or failed). Runs on the calling thread's rayon pool (the runner gives each
+/// run a single-thread pool; the engine's result does not depend on the thread count). `keep_runs`:
+/// keep the run's full outputs (else only [`KEPT_RUN_FILES`]); `cancel` stops it after its current
+/// segment (recorded as `interrupted`).
+pub fn execute(
     campaign: &Campaign,
     spec: &RunSpec,
     out: &Path,
