@@ -12,7 +12,8 @@ Arrays returned by satflock are float64 unless stated otherwise.
 """
 
 import os
-from typing import Any, Literal, Mapping, Optional, Protocol, Union, final
+import pathlib
+from typing import Any, Callable, Literal, Mapping, Optional, Protocol, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -22,6 +23,7 @@ __version__: str
 
 __all__ = [
     "CampaignError",
+    "LawContext",
     "RunResult",
     "Scenario",
     "ScenarioError",
@@ -113,109 +115,109 @@ class Scenario:
 
 # ------------------------------------------------------------------------------------------------ runs
 
-@final
 class Trajectory:
-    """Every recorded state of a run: one record every `record_interval_s` of the scenario, at the same
-    times as the CLI's `trajectory.csv`. A satellite not alive at a record (removed by an event) has NaN
-    in its row of `hill`, `eci`, `delta_v_mps` and the law outputs."""
+    """Every recorded state of a run: one record every `record_interval_s` of the scenario, at the times
+    of the CLI's `trajectory` table. A satellite not alive at a record (removed by an event) has NaN in
+    its row of `hill`, `eci`, `delta_v_mps` and the law outputs. The arrays are read-only. Made by
+    satflock (`RunResult.trajectory`, `Simulation.trajectory`), not by users."""
 
-    @property
-    def t_s(self) -> _FloatArray:
-        """Record times since the scenario epoch [s], shape (R,)."""
-    @property
-    def ids(self) -> _IntArray:
-        """Satellite ids (the `id` column of the CLI's trajectory), shape (N,)."""
-    @property
-    def hill(self) -> _FloatArray:
-        """States in the Hill LVLH frame, shape (R, N, 6): x, y, z [m] then vx, vy, vz [m/s]."""
-    @property
-    def eci(self) -> _FloatArray:
-        """States in EME2000, shape (R, N, 6): x, y, z [m] then vx, vy, vz [m/s]."""
-    @property
-    def delta_v_mps(self) -> _FloatArray:
-        """Delta-v each satellite has spent since the start [m/s], shape (R, N)."""
-    @property
-    def law_outputs(self) -> dict[str, _FloatArray]:
-        """The law's per-satellite outputs by column name (with its unit in the name), each (R, N)."""
+    t_s: _FloatArray
+    """Record times since the scenario start [s], shape (R,)."""
+    ids: _IntArray
+    """Satellite indices 0 .. N - 1 (the `id` column of the CLI's trajectory), shape (N,) int64."""
+    hill: _FloatArray
+    """States in the Hill LVLH frame, shape (R, N, 6): x, y, z [m] then vx, vy, vz [m/s] (relative to the
+    rotating frame)."""
+    eci: _FloatArray
+    """States in EME2000, shape (R, N, 6): x, y, z [m] then vx, vy, vz [m/s]."""
+    delta_v_mps: _FloatArray
+    """Delta-v each satellite has spent since the start [m/s], shape (R, N)."""
+    law_outputs: dict[str, _FloatArray]
+    """The law's per-satellite outputs by column name (the unit in the name), each (R, N)."""
 
-@final
 class RunResult:
-    """What `satflock.run` returns: the same numbers the CLI writes into a run directory."""
+    """What `satflock.run` returns (made by it, not by users): the numbers the CLI writes into a run
+    directory."""
 
-    @property
-    def summary(self) -> dict[str, Any]:
-        """The run's `summary.json` as a dict: `status`, `delta_v_mps` (`per_satellite`, `mean`, `max` [m/s]),
-        `min_separation_m`, `final.five_elements` (`d_max_m`, `d_min_m`, `uniformity_l` …), `law` (the
-        law's own results), `wall_time_s` … (docs/outputs.md lists every key)."""
-    @property
-    def status(self) -> str:
-        """`"completed"` or `"failed"` (a run stopped by Ctrl-C raises `KeyboardInterrupt` instead)."""
-    @property
-    def out(self) -> Optional[str]:
-        """The run directory written (as `satflock run --out`), or None when `out` was not given."""
-    @property
-    def metrics(self) -> Union[pyarrow.Table, dict[str, _FloatArray]]:
-        """The metrics table (the CLI's `metrics.csv`: one row per record, columns with units in their names,
-        e.g. `t_s`, `d_max_m`, `min_separation_m`, `delta_v_mean_mps`): a `pyarrow.Table`, or a dict of
-        numpy arrays of shape (R,) when pyarrow is not installed."""
-    @property
-    def trajectory(self) -> Trajectory:
-        """Every recorded state as numpy arrays."""
+    summary: dict[str, Any]
+    """The run's `summary.json` as a dict: `status`, `delta_v_mps` (`per_satellite`, `mean`, `max` [m/s]),
+    `min_separation_m`, `final.five_elements` (`d_max_m`, `d_min_m`, `uniformity_l` …), `law` (the law's
+    own results), `wall_time_s` … (docs/outputs.md lists every key). A value that does not exist is None."""
+    status: str
+    """The summary's status: `"completed"` (a run that fails raises `SimulationError`)."""
+    out: Optional[pathlib.Path]
+    """The run directory written (as `satflock run --out`), or None when `out` was not given."""
+    metrics: Union[pyarrow.Table, dict[str, npt.NDArray[Any]]]
+    """The metrics table (the CLI's `metrics.csv`: one row per record, units in the column names, e.g.
+    `t_s` [s], `time_utc`, `d_max_m`, `min_separation_m`, `delta_v_mean_mps`): a `pyarrow.Table`, or a dict
+    of numpy arrays of shape (R,) when pyarrow is not installed. NaN where a value does not exist."""
+    trajectory: Optional[Trajectory]
+    """Every recorded state as numpy arrays; None when the scenario writes no trajectory
+    (`[output] trajectory = false`)."""
 
 def run(
-    scenario: Scenario,
+    scenario: Union[Scenario, str, os.PathLike[str]],
     out: Optional[Union[str, os.PathLike[str]]] = None,
     threads: Optional[int] = None,
-    progress: bool = True,
+    progress: Union[bool, Callable[[float], Any]] = True,
     law: Optional["PythonLaw"] = None,
 ) -> RunResult:
-    """Runs a scenario to its end, as `satflock run` does.
+    """Runs a scenario to its end, as `satflock run` does (the same numbers, bit for bit).
 
     Args:
-        scenario: the scenario (validated before it starts; `ScenarioError` otherwise).
-        out: a run directory to write the CLI's files into (`summary.json`, `metrics.csv`, trajectory,
-            scenario); None keeps everything in memory.
-        threads: worker threads (>= 1); None uses one per core. Results are the same bit for bit on any
-            thread count.
-        progress: show a progress bar on stderr.
-        law: a Python guidance law replacing the scenario's `[law]` (see `PythonLaw`); sampled control only.
+        scenario: a `Scenario`, a built-in name or a path to a scenario file.
+        out: a run directory (new, empty or a previous run's) that gets the CLI's files (`summary.json`,
+            metrics and trajectory tables, `scene.json`, `scenario.toml`); None: nothing is kept on disk.
+        threads: worker threads (>= 1); None: one per core. The results do not depend on it.
+        progress: True shows the percentage done on stderr (when it is a terminal); False nothing; or a
+            callable receiving the simulated time [s] at each whole percent of the run.
+        law: a guidance law written in Python run instead of the scenario's law (see `PythonLaw`);
+            sampled control only.
 
-    The GIL is released while Rust runs; Ctrl-C stops the run cleanly (files closed, `summary.json`
-    marked `interrupted`) and raises `KeyboardInterrupt`. A run that stops early (divergence) returns
-    with `status == "failed"`; a setup the engine refuses raises `SimulationError`.
+    Raises:
+        ScenarioError: the scenario is invalid, or cannot take `law`.
+        SimulationError: the run failed (divergence, a Python law that raised or returned a bad array),
+            with the message `satflock run` prints; with `out`, the files so far stay, marked `failed`.
+        KeyboardInterrupt: Ctrl-C (the GIL is released while Rust runs): the run stops cleanly first
+            (with `out`, its files are valid up to that time and `summary.json` says `interrupted`).
+        ValueError: `out` holds files that are not a previous run's, or `threads` < 1.
     """
 
-@final
 class Simulation:
-    """A scenario stepped from Python: the same engine, events and records as `satflock run`, so a
-    simulation advanced to its end gives the CLI's results bit for bit.
+    """A scenario stepped from Python: the simulation `satflock.run` builds, with the same scheduler,
+    events and records, so advancing it in any number of calls gives the CLI's results bit for bit.
 
-    State arrays are read-only numpy arrays of the current time; copy one (`np.array(sim.positions_hill)`)
-    to keep it across `advance_to`. Satellites not alive have NaN rows.
+    State arrays are read-only copies of the current time (the engine stores each satellite as one
+    struct, so a zero-copy view is not possible); removed satellites have NaN rows.
     """
 
-    def __init__(
-        self, scenario: Scenario, law: Optional["PythonLaw"] = None, threads: Optional[int] = None
-    ) -> None:
-        """Builds the simulation at t = 0 (`ScenarioError` / `SimulationError` if the scenario or the
-        engine refuses it). `law` and `threads` as in `satflock.run`."""
+    def __new__(
+        cls,
+        scenario: Union[Scenario, str, os.PathLike[str]],
+        law: Optional["PythonLaw"] = None,
+        threads: Optional[int] = None,
+    ) -> "Simulation":
+        """Builds the simulation at t = 0 and takes the first record (`ScenarioError` or `SimulationError`
+        if the scenario or the engine refuses it). `scenario`, `law` and `threads` as in `satflock.run`."""
     def advance_to(self, t_s: float) -> None:
-        """Advances to time `t_s` [s] since the epoch (0 <= t_s <= duration_s, not before `time_s`),
-        applying the events and recording as the CLI does; Ctrl-C raises `KeyboardInterrupt` with the
-        simulation stopped at a step boundary."""
+        """Advances to `t_s` [s] since the start (from `time_s` to `duration_s`), with the ticks, events and
+        records of a whole run. The GIL is released; Ctrl-C raises `KeyboardInterrupt` and leaves the
+        simulation usable at the time reached; a failure (divergence, a Python law) raises
+        `SimulationError`."""
     def step(self) -> None:
-        """Advances by one integration step (`dynamics.step_s`) or to the end, whichever comes first."""
+        """Advances to the next control tick (the next integration step in continuous mode); nothing at the
+        end."""
     def run(self) -> None:
         """Advances to `duration_s`."""
     @property
     def time_s(self) -> float:
-        """Current time since the epoch [s]."""
+        """Current time since the start [s]."""
     @property
     def duration_s(self) -> float:
         """The scenario's end time [s]."""
     @property
     def n_satellites(self) -> int:
-        """N, the number of satellites (alive or not)."""
+        """N, the number of satellites (removed ones included)."""
     @property
     def positions_hill(self) -> _FloatArray:
         """Positions in the Hill LVLH frame [m], shape (N, 3)."""
@@ -230,61 +232,78 @@ class Simulation:
         """Velocities in EME2000 [m/s], shape (N, 3)."""
     @property
     def active(self) -> _BoolArray:
-        """Whether each satellite is alive, shape (N,) bool."""
+        """Whether each satellite is still in the swarm, shape (N,) bool."""
     @property
     def law_outputs(self) -> dict[str, _FloatArray]:
-        """The law's per-satellite outputs now, by column name, each (N,)."""
+        """The law's per-satellite outputs now, by column name (the unit in the name), each (N,)."""
     @property
-    def trajectory(self) -> Trajectory:
+    def trajectory(self) -> Optional[Trajectory]:
         """The records so far (as `RunResult.trajectory`)."""
     @property
-    def metrics(self) -> Union[pyarrow.Table, dict[str, _FloatArray]]:
+    def metrics(self) -> Union[pyarrow.Table, dict[str, npt.NDArray[Any]]]:
         """The metrics rows recorded so far (as `RunResult.metrics`)."""
 
 # ------------------------------------------------------------------------------------------ Python law
 
+@final
 class LawContext:
-    """What a Python law's `command` receives at each control tick (for type checkers only: not a name
-    importable from `satflock`).
+    """What a Python law's `command(ctx)` receives at a control tick: the whole swarm's truth states (no
+    navigation noise) and its neighbour lists. Arrays are read-only copies; row i is satellite i. A
+    removed satellite keeps its row (its last state) with `active[i] == False` and no neighbours.
 
-    The states are the truth (no navigation noise). The neighbour lists hold, for satellite i, the
-    indices j != i of alive satellites within `sensing_range_m`, as a CSR pair:
-    `neighbour_indices[neighbour_offsets[i]:neighbour_offsets[i + 1]]`.
+    Satellite i's neighbours (the live satellites within `sensing_range_m`, i excluded) are
+    `neighbour_indices[neighbour_offsets[i]:neighbour_offsets[i + 1]]` (CSR).
     """
 
-    time_s: float
-    """Time of the tick since the epoch [s]."""
-    tick: int
-    """Control tick index (0 at t = 0)."""
-    period_s: float
-    """Control period: the command is held for this long [s]."""
-    positions_hill: _FloatArray
-    """Positions in the Hill LVLH frame [m], shape (N, 3)."""
-    velocities_hill: _FloatArray
-    """Velocities in the Hill LVLH frame [m/s], shape (N, 3)."""
-    active: _BoolArray
-    """Whether each satellite is alive, shape (N,) bool (commands of others are ignored)."""
-    mass_kg: _FloatArray
-    """Satellite masses [kg], shape (N,)."""
-    sensing_range_m: float
-    """The scenario's sensing range [m]."""
-    neighbour_offsets: _IntArray
-    """CSR offsets into `neighbour_indices`, shape (N + 1,)."""
-    neighbour_indices: _IntArray
-    """Neighbour indices, shape (M,)."""
-    mean_motion_rad_per_s: float
-    """Mean motion n of the reference orbit [rad/s] (HCW's n)."""
+    @property
+    def time_s(self) -> float:
+        """Time of the tick since the start [s]."""
+    @property
+    def tick(self) -> int:
+        """Index of the control tick, from 0."""
+    @property
+    def period_s(self) -> float:
+        """Control period [s]: the commands are held until the next tick."""
+    @property
+    def n_satellites(self) -> int:
+        """N, the number of satellites (removed ones included)."""
+    @property
+    def positions_hill(self) -> _FloatArray:
+        """Positions in the Hill LVLH frame [m], shape (N, 3)."""
+    @property
+    def velocities_hill(self) -> _FloatArray:
+        """Velocities in the Hill LVLH frame (relative to the rotating frame) [m/s], shape (N, 3)."""
+    @property
+    def active(self) -> _BoolArray:
+        """Whether each satellite is still in the swarm, shape (N,) bool (the others' commands are ignored)."""
+    @property
+    def mass_kg(self) -> _FloatArray:
+        """Masses [kg], shape (N,)."""
+    @property
+    def sensing_range_m(self) -> float:
+        """Range of the sensors and links [m]."""
+    @property
+    def neighbour_offsets(self) -> _IntArray:
+        """CSR offsets into `neighbour_indices`, shape (N + 1,) int64."""
+    @property
+    def neighbour_indices(self) -> _IntArray:
+        """CSR neighbour indices, shape (M,) int64, ascending per satellite."""
+    @property
+    def mean_motion_rad_per_s(self) -> float:
+        """Mean motion n of the reference orbit [rad/s] (for HCW feed-forward terms)."""
 
 class PythonLaw(Protocol):
-    """A guidance law written in Python (for type checkers only: any object with this method works).
+    """A guidance law written in Python (for type checkers only, not importable: any object with this
+    method works).
 
-    Sampled control only: `command` is called once per control tick (`[control] period_s`) for the
-    whole swarm and its output held over the period; it runs under the GIL and is slower than a Rust law.
+    Sampled control only: `command` is called once per control tick (`[control] period_s`) for the whole
+    swarm and its output held over the period. It runs under the GIL and is slower than a Rust law.
     """
 
     def command(self, ctx: LawContext) -> npt.ArrayLike:
-        """Commanded accelerations in the Hill LVLH frame [m/s^2], shape (N, 3), finite. The actuator
-        model (saturation, failures) applies after it, and the delta-v ledger counts what is applied."""
+        """Commanded accelerations in the Hill LVLH frame [m/s^2], shape (N, 3), finite (rows of removed
+        satellites are ignored). The actuator model (saturation, failures) applies after it, and the
+        delta-v ledger counts what is applied."""
 
 # -------------------------------------------------------------------------------- metrics, propagation
 

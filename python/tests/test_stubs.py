@@ -10,8 +10,18 @@ import satflock
 
 PACKAGE = Path(satflock.__file__).parent
 
-# Names the stubs declare for type checkers only (their docstrings say so): not importable at run time.
-TYPE_ONLY = ["satflock.LawContext", "satflock.PythonLaw"]
+# Not checked against the module: a name the stubs declare for type checkers only (its docstring says
+# so), and the constructors of results that satflock makes and users do not (the stubs leave them out).
+ALLOWLIST = ["satflock.PythonLaw", "satflock.RunResult.__init__", "satflock.Trajectory.__init__"]
+
+# The package's own Python modules are mypy's to type-check elsewhere, not stubtest's: their errors, and
+# the compiled module they import (which has no stub of its own), must not stop the check of the stubs.
+MYPY_CONFIG = """[mypy]
+ignore_missing_imports = True
+
+[mypy-satflock.*]
+ignore_errors = True
+"""
 
 
 def test_stubs_and_marker_are_installed():
@@ -20,10 +30,20 @@ def test_stubs_and_marker_are_installed():
 
 
 def test_stubs_match_the_module(tmp_path):
-    allowlist = tmp_path / "allowlist.txt"
-    allowlist.write_text("\n".join(TYPE_ONLY) + "\n", encoding="utf-8")
+    (tmp_path / "allowlist.txt").write_text("\n".join(ALLOWLIST) + "\n", encoding="utf-8")
+    (tmp_path / "mypy.ini").write_text(MYPY_CONFIG, encoding="utf-8")
     done = subprocess.run(
-        [sys.executable, "-m", "mypy.stubtest", "satflock", "--allowlist", str(allowlist)],
+        [
+            sys.executable,
+            "-m",
+            "mypy.stubtest",
+            "satflock",
+            "--allowlist",
+            "allowlist.txt",
+            "--ignore-unused-allowlist",
+            "--mypy-config-file",
+            "mypy.ini",
+        ],
         cwd=tmp_path,  # mypy's cache stays in the test's folder
         capture_output=True,
         text=True,
