@@ -1,16 +1,25 @@
-"""Shared fixtures of the satflock package tests."""
+"""Shared fixtures of the Python package's tests."""
 
 import os
+import pathlib
 
 import pytest
 
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
 
 @pytest.fixture(scope="session")
-def satflock_bin():
-    """The `satflock` command-line binary named by SATFLOCK_BIN (the test is skipped without it)."""
-    path = os.environ.get("SATFLOCK_BIN")
-    if not path:
-        pytest.skip("SATFLOCK_BIN is not set: no satflock binary to compare with")
+def satflock_bin() -> pathlib.Path:
+    """The CLI binary, an independent path to compare the package with: $SATFLOCK_BIN (CI sets it; a
+    path that is not an executable fails), else target/release/satflock if built, else the test is
+    skipped."""
+    given = os.environ.get("SATFLOCK_BIN")
+    if given:
+        path = pathlib.Path(given)
+        if not os.access(path, os.X_OK):
+            pytest.fail(f"SATFLOCK_BIN={path} is not an executable file")
+        return path
+    path = ROOT / "target" / "release" / "satflock"
     if not os.access(path, os.X_OK):
-        pytest.fail(f"SATFLOCK_BIN={path} is not an executable file")
+        pytest.skip("no satflock binary: set SATFLOCK_BIN or run `cargo build --release`")
     return path
