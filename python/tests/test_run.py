@@ -4,6 +4,7 @@ progress, removed satellites, thread counts."""
 import json
 import os
 import signal
+import sys
 import threading
 
 import numpy as np
@@ -161,3 +162,14 @@ def test_ctrl_c_stops_the_run_cleanly(tmp_path):
     # The metrics file is whole up to the time reached.
     metrics = pyarrow.csv.read_csv(out / "metrics.csv")
     assert metrics["t_s"].to_numpy()[-1] <= summary["simulated_s"]
+
+
+def test_metrics_without_pyarrow_are_a_dict_of_numpy_arrays(short_hold, monkeypatch):
+    with_pyarrow = satflock.run(short_hold, progress=False).metrics
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # `import pyarrow` now fails
+    metrics = satflock.run(short_hold, progress=False).metrics
+    assert isinstance(metrics, dict) and list(metrics) == with_pyarrow.column_names
+    assert metrics["n"].dtype == np.int64 and metrics["d_max_m"].dtype == np.float64
+    assert metrics["time_utc"].tolist() == with_pyarrow["time_utc"].to_pylist()
+    for name in with_pyarrow.column_names[2:]:
+        assert np.array_equal(metrics[name], with_pyarrow[name].to_numpy(), equal_nan=True), name
