@@ -159,9 +159,10 @@ impl PythonLawObject {
             Some(name) if name.is_instance_of::<PyString>() => name.extract::<String>()?,
             Some(name) if !name.is_none() => {
                 return Err(PyTypeError::new_err(format!(
-                "law.name is a {} (allowed: a str, or no attribute `name`: the class name is used)",
-                type_name(&name)
-            )))
+                    "law.name is a {} (allowed: a str, or no attribute `name`: the class name is \
+                     used)",
+                    type_name(&name)
+                )))
             }
             _ => class,
         };
