@@ -16,7 +16,7 @@ use crate::output::{
     DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
     Scene, TableFormats,
 };
-use crate::scenario::{Scenario, ScenarioError};
+use crate::scenario::{Prepared, Scenario, ScenarioError};
 use crate::swarm::{SimError, Simulation};
 
 /// Why a run could not start or did not finish.
@@ -51,7 +51,12 @@ pub enum RunError {
 /// Builds the simulation of a scenario in one call (validated; nothing written): the embedding entry
 /// point for tools that drive the run themselves with [`Simulation::advance_to`].
 pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
-    let prepared = scenario.prepare()?;
+    build_prepared(scenario, scenario.prepare()?)
+}
+
+/// [`build_simulation`] from a scenario already prepared, e.g. with a caller's law
+/// ([`crate::scenario::Prepared::replace_law`]).
+pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulation, RunError> {
     Simulation::new(
         prepared.config,
         &prepared.satellites,
@@ -256,8 +261,20 @@ pub fn run_scenario_with(
     options: &RunOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunSummary, RunError> {
+    run_prepared(scenario, scenario.prepare()?, out_dir, options, progress)
+}
+
+/// [`run_scenario_with`] of a scenario already prepared: `prepared` is `scenario.prepare()`, possibly
+/// with a caller's law ([`crate::scenario::Prepared::replace_law`], said in `scenario.toml` and as the
+/// summary's `controller`).
+pub fn run_prepared(
+    scenario: &Scenario,
+    prepared: Prepared,
+    out_dir: &Path,
+    options: &RunOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunSummary, RunError> {
     let budget_mps = check_output_keys(scenario)?;
-    let prepared = scenario.prepare()?;
     let output_error = |path: &Path, e: std::io::Error| RunError::Output {
         path: path.display().to_string(),
         message: e.to_string(),
@@ -283,12 +300,7 @@ pub fn run_scenario_with(
     }
     // The output directory is created (or a previous run's cleared) only once the run can start.
     prepare_output_dir(out_dir)?;
-    let columns = OutputColumns {
-        threats: !simulation.config().threats.is_empty(),
-        obstacles: !simulation.config().obstacles.is_empty(),
-        law_metrics: simulation.law_metric_names(),
-        law_outputs: simulation.law_output_names(),
-    };
+    let columns = OutputColumns::of(&simulation);
     let epoch = prepared.epoch;
     let scene = Scene {
         target_formation_lvlh_m: simulation
@@ -303,13 +315,17 @@ pub fn run_scenario_with(
         path: scenario_path.display().to_string(),
         message: e.to_string(),
     })?;
-    // A replaced controller is said in a comment; the tables below are the scenario as run.
-    let scenario_text = match &scenario.controller {
-        Some(c) => format!(
+    // A replaced controller or law is said in a comment; the tables below are the scenario as run.
+    let scenario_text = match (&scenario.controller, &prepared.law_source) {
+        (_, Some(law)) => format!(
+            "# As run: the scenario {} with the caller's law {law} instead of its [law].\n{scenario_text}",
+            scenario.sources()
+        ),
+        (Some(c), None) => format!(
             "# As run: the case {} with the controller {} (its law, law events and control timing).\n{scenario_text}",
             scenario.source, c.source
         ),
-        None => scenario_text,
+        (None, None) => scenario_text,
     };
     std::fs::write(&scenario_path, scenario_text).map_err(|e| output_error(&scenario_path, e))?;
     let formats = TableFormats::choose(
@@ -347,7 +363,10 @@ pub fn run_scenario_with(
     let summary = RunSummary {
         scenario: prepared.name,
         source: scenario.source.clone(),
-        controller: scenario.controller.as_ref().map(|c| c.source.clone()),
+        controller: prepared
+            .law_source
+            .clone()
+            .or_else(|| scenario.controller.as_ref().map(|c| c.source.clone())),
         seed,
         epoch_utc: crate::time::utc_iso(epoch),
         time_system: frames::TIME_SYSTEM.into(),

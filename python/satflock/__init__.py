@@ -6,6 +6,7 @@ along-track, z orbit normal) about the LVLH origin, inertial states in EME2000 (
 
 from ._native import (
     CampaignError,
+    LawContext,
     Scenario,
     ScenarioError,
     SimulationError,
@@ -14,14 +15,20 @@ from ._native import (
     propagate,
 )
 from ._campaign import campaign
+from ._run import RunResult, Simulation, Trajectory, run
 
 __all__ = [
     "CampaignError",
+    "LawContext",
+    "RunResult",
     "Scenario",
     "ScenarioError",
+    "Simulation",
     "SimulationError",
+    "Trajectory",
     "__version__",
     "campaign",
     "characterize",
     "propagate",
+    "run",
 ]

@@ -1,7 +1,8 @@
 //! Running Rust work off the GIL: on a worker thread (so Python threads go on), on a chosen number of
-//! rayon threads, and interruptible by Ctrl-C: the calling thread wakes every 50 ms to let Python handle
-//! signals, and on `KeyboardInterrupt` sets the run's cancel flag, waits for the run to stop cleanly
-//! (files closed, `summary.json` written) and re-raises it.
+//! rayon threads, and interruptible by Ctrl-C: the calling thread sleeps until the work is done (woken
+//! by it), waking every 50 ms to let Python handle signals; on `KeyboardInterrupt` it sets the run's
+//! cancel flag, waits for the run to stop cleanly (files closed, `summary.json` written) and re-raises
+//! it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -21,37 +22,54 @@ pub fn run_detached<T: Send>(
     cancel: &Arc<AtomicBool>,
     work: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
-    let pool = match threads {
-        Some(0) => {
-            return Err(PyValueError::new_err(
-                "threads = 0 (allowed: an integer >= 1, or None for one per core)",
-            ))
-        }
-        Some(k) => Some(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(k)
-                .build()
-                .map_err(|e| PyValueError::new_err(format!("cannot start {k} threads: {e}")))?,
-        ),
-        None => None,
-    };
+    run_in_pool(py, thread_pool(threads)?.as_ref(), cancel, work)
+}
+
+/// A rayon pool of `threads` threads (`None`: none, the global pool is used); for callers that run many
+/// short pieces of work on the same threads ([`run_in_pool`]).
+pub fn thread_pool(threads: Option<usize>) -> PyResult<Option<rayon::ThreadPool>> {
+    match threads {
+        Some(0) => Err(PyValueError::new_err(
+            "threads = 0 (allowed: an integer >= 1, or None for one per core)",
+        )),
+        Some(k) => rayon::ThreadPoolBuilder::new()
+            .num_threads(k)
+            .build()
+            .map(Some)
+            .map_err(|e| PyValueError::new_err(format!("cannot start {k} threads: {e}"))),
+        None => Ok(None),
+    }
+}
+
+/// [`run_detached`] on a pool made by [`thread_pool`] (`None`: the global pool).
+pub fn run_in_pool<T: Send>(
+    py: Python<'_>,
+    pool: Option<&rayon::ThreadPool>,
+    cancel: &Arc<AtomicBool>,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    let done = &AtomicBool::new(false);
     std::thread::scope(|scope| {
-        let handle = scope.spawn(move || match &pool {
-            Some(pool) => pool.install(work),
-            None => work(),
+        let waiter = std::thread::current();
+        let handle = scope.spawn(move || {
+            let value = match pool {
+                Some(pool) => pool.install(work),
+                None => work(),
+            };
+            done.store(true, Ordering::Release);
+            waiter.unpark();
+            value
         });
+        // Finished, or the worker panicked (the join below re-raises the panic).
+        let finished = || done.load(Ordering::Acquire) || handle.is_finished();
         let mut interrupted: Option<PyErr> = None;
-        loop {
-            let finished = py.detach(|| {
-                let until = std::time::Instant::now() + SIGNAL_POLL;
-                while !handle.is_finished() && std::time::Instant::now() < until {
-                    std::thread::sleep(Duration::from_millis(2));
+        while !finished() {
+            // An unpark between the check and the park makes the park return at once.
+            py.detach(|| {
+                if !finished() {
+                    std::thread::park_timeout(SIGNAL_POLL);
                 }
-                handle.is_finished()
             });
-            if finished {
-                break;
-            }
             if interrupted.is_none() {
                 if let Err(e) = py.check_signals() {
                     cancel.store(true, Ordering::Relaxed);

@@ -10,13 +10,21 @@
 //! | `scenario.rs` | `Scenario`: load, from TOML or a dict, dotted-key access, validation |
 //! | `analysis.rs` | `characterize` (the five elements) and `propagate` (orbits without control) |
 //! | `campaign.rs` | `CampaignPlan`, `CampaignOutput`: campaigns, locally or step by step for Ray |
+//! | `law.rs` | a guidance law written in Python (`law=`), and its `LawContext` |
+//! | `records.rs` | the in-memory recorder of `Simulation`; tables as numpy arrays |
+//! | `run.rs` | `run`: a whole run into an output folder, read back |
+//! | `simulation.rs` | `Simulation`: a scenario stepped from Python |
 
 mod analysis;
 mod campaign;
 mod convert;
 mod detached;
 mod errors;
+mod law;
+mod records;
+mod run;
 mod scenario;
+mod simulation;
 
 use pyo3::prelude::*;
 
@@ -30,5 +38,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis::propagate, m)?)?;
     m.add_class::<campaign::CampaignPlan>()?;
     m.add_class::<campaign::CampaignOutput>()?;
+    m.add_class::<simulation::PySimulation>()?;
+    m.add_class::<law::PyLawContext>()?;
+    m.add_function(wrap_pyfunction!(run::run, m)?)?;
     Ok(())
 }

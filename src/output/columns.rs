@@ -12,7 +12,7 @@
 //! cell, a Parquet null.
 
 use crate::output::frames;
-use crate::swarm::Snapshot;
+use crate::swarm::{Simulation, Snapshot};
 use crate::time::{self, Epoch};
 
 /// Columns of `metrics` (`time_utc`: the instant, ISO 8601 UTC, see [`crate::time`]).
@@ -128,16 +128,25 @@ pub struct Column {
     pub kind: ColumnKind,
 }
 
-impl Column {
-    fn new(name: &'static str) -> Self {
-        let kind = if name == "time_utc" {
+impl ColumnKind {
+    /// What the column named `name` holds (for readers of a table, which know the names only).
+    pub fn of(name: &str) -> Self {
+        if name == "time_utc" {
             ColumnKind::Text
         } else if COUNT_COLUMNS.contains(&name) {
             ColumnKind::Count
         } else {
             ColumnKind::Float
-        };
-        Self { name, kind }
+        }
+    }
+}
+
+impl Column {
+    fn new(name: &'static str) -> Self {
+        Self {
+            name,
+            kind: ColumnKind::of(name),
+        }
     }
 
     /// The column's unit, read from its name: `m`, `m/s`, `s`, `deg`, …; `1` for counts and
@@ -181,6 +190,17 @@ pub struct OutputColumns {
 }
 
 impl OutputColumns {
+    /// The columns of a simulation's tables: threat and obstacle monitors where its scenario has
+    /// threats or obstacles, and the metrics and outputs of every law it can run.
+    pub fn of(simulation: &Simulation) -> Self {
+        Self {
+            threats: !simulation.config().threats.is_empty(),
+            obstacles: !simulation.config().obstacles.is_empty(),
+            law_metrics: simulation.law_metric_names(),
+            law_outputs: simulation.law_output_names(),
+        }
+    }
+
     /// The columns of `metrics`, in file order.
     pub fn metrics(&self) -> Vec<Column> {
         let mut names: Vec<&'static str> = METRICS_HEADER.to_vec();

@@ -69,7 +69,8 @@ pub struct RunSummary {
     /// Where the scenario came from (path or `builtin:NAME`).
     pub source: String,
     /// Where the controller came from when `--law` replaced the scenario's own (path or
-    /// `builtin:NAME`; absent otherwise).
+    /// `builtin:NAME`), or the caller's law that replaced the scenario's law (`python:NAME`, see
+    /// [`crate::scenario::Prepared::replace_law`]); absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub controller: Option<String>,
     /// Seed of every random draw.

@@ -83,6 +83,64 @@ pub struct Prepared {
     pub tags: std::collections::BTreeMap<String, String>,
     /// The instant of t = 0.
     pub epoch: crate::time::Epoch,
+    /// Where the law came from when a caller's law replaced the scenario's ([`Prepared::replace_law`]:
+    /// e.g. `python:MyLaw`); `None`: the scenario's own `[law]` runs.
+    pub law_source: Option<String>,
+}
+
+impl Prepared {
+    /// Replaces the scenario's law by a caller's `law` (one the scenario file cannot name: a law written
+    /// in Python, a law of an embedding program); `source` says where it came from (`python:NAME`; the
+    /// run's `summary.json` gives it as its `controller`, `scenario.toml` in a comment). The law is
+    /// checked as the scenario's own law is: against the dynamics and the timing
+    /// ([`check_law_fits`], a refusal naming `dynamics.model`, `control.period_s` or
+    /// `dynamics.step_s`) and against the swarm. The scenario's law events (`set-law-parameters`,
+    /// `switch-law`) are written for its own law and are refused, naming the first one.
+    pub fn replace_law(
+        &mut self,
+        scenario: &Scenario,
+        law: Law,
+        source: &str,
+    ) -> Result<(), ScenarioError> {
+        let sources = scenario.sources();
+        let c = Checker { file: &sources };
+        if let Some(k) = scenario
+            .file
+            .events
+            .iter()
+            .position(|e| crate::scenario::controller::is_law_event(&e.action))
+        {
+            return Err(c.invalid(
+                &scenario.event_key(k),
+                format!(
+                    "a law event of the scenario's own law cannot apply to the caller's law `{source}` \
+                     (allowed with a caller's law: every event but set-law-parameters and switch-law; \
+                     remove it)"
+                ),
+            ));
+        }
+        let min_mass_kg = self
+            .satellites
+            .iter()
+            .map(|s| s.mass_kg)
+            .fold(f64::INFINITY, f64::min);
+        let key = match check_law_fits(&law, &self.config, min_mass_kg) {
+            Err(SimError::CommandKindMismatch { .. }) => "dynamics.model",
+            Err(SimError::ControlPeriodTooLong { .. }) => "control.period_s",
+            Err(SimError::StepTooLong { .. }) => "dynamics.step_s",
+            _ => "law",
+        };
+        self.law = check_law(
+            &c,
+            key,
+            law,
+            &self.config,
+            self.satellites.len(),
+            min_mass_kg,
+        )?;
+        self.law_source = Some(source.to_string());
+        Ok(())
+    }
 }
 
 struct Checker<'a> {
@@ -500,6 +558,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         events,
         write_trajectory: f.output.trajectory,
         tags: f.output.tags.clone(),
+        law_source: None,
     })
 }
 
@@ -514,6 +573,19 @@ fn build_law(
     min_mass_kg: f64,
 ) -> Result<Law, ScenarioError> {
     let built = law.build().map_err(|e| c.invalid(key, e.to_string()))?;
+    check_law(c, key, built, config, count, min_mass_kg)
+}
+
+/// Checks that a built law fits the dynamics and timing and the swarm; an error names `key` as
+/// [`build_law`] does.
+fn check_law(
+    c: &Checker<'_>,
+    key: &str,
+    built: Law,
+    config: &SimulationConfig,
+    count: usize,
+    min_mass_kg: f64,
+) -> Result<Law, ScenarioError> {
     check_law_fits(&built, config, min_mass_kg).map_err(|e| {
         let hint = match e {
             SimError::ControlPeriodTooLong { .. } => "; shorten control.period_s or soften the law",

@@ -66,6 +66,18 @@ pub enum LawError {
         /// The parameter type the law takes.
         expected: &'static str,
     },
+    /// The law failed while the run was going (from [`GuidanceLaw::centralised_update`]): a law that
+    /// calls code outside the engine (a guidance law written in Python) raised an error or returned
+    /// commands that cannot be used. The run stops with this error and its outputs stay valid.
+    #[error("law `{law}` failed at t = {time_s} s: {message}")]
+    Failed {
+        /// The law's name.
+        law: String,
+        /// Time of the tick at which it failed \[s\].
+        time_s: f64,
+        /// What went wrong.
+        message: String,
+    },
 }
 
 /// A guidance law: maps what one satellite senses, and its own state, to its command.

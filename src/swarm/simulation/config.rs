@@ -251,7 +251,8 @@ pub enum SimError {
     /// The integrator failed (step-size underflow, non-finite derivative).
     #[error("integration failed: {0}")]
     Integration(#[from] IntegrateError),
-    /// The law refused its parameters or could not start.
+    /// The law refused its parameters, could not start, or failed while running
+    /// ([`LawError::Failed`]).
     #[error(transparent)]
     Law(#[from] LawError),
     /// The recorder could not write.

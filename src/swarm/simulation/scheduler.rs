@@ -104,8 +104,14 @@ impl Simulation {
     /// events, but no recording. For callers that drive the loop themselves (benchmarks); it mixes
     /// freely with [`Simulation::advance_to`] and [`Simulation::run`].
     pub fn step(&mut self) -> Result<(), SimError> {
-        let next_tick = (self.step_count + 1) as f64 * self.config.base_step_s();
-        self.advance_with_progress(next_tick, None, &mut |_| {})
+        self.advance_with_progress(self.next_tick_s(), None, &mut |_| {})
+    }
+
+    /// The time of the next tick \[s\] (control tick, or integration step in continuous mode; past the
+    /// end of the run once it is reached): `advance_to(next_tick_s())` is [`Simulation::step`] with
+    /// recording.
+    pub fn next_tick_s(&self) -> f64 {
+        (self.step_count + 1) as f64 * self.config.base_step_s()
     }
 
     /// Advances the state from t0 to t1 (one segment). `at_tick`: t0 is a control tick.
