@@ -316,12 +316,14 @@ def characterize(
 
     Args:
         positions: shape (N, 3), N >= 2 [m], any common Cartesian frame.
-        radii: physical radii [m] (finite, >= 0), shape (N,), for the minimum distance; None: points.
-        velocities: shape (N, 3) [m/s], same frame; None: zero (then `v_o_mps` is zero).
+        radii: physical radii [m] (finite, >= 0), a scalar or shape (N,), for the minimum distance;
+            None: points.
+        velocities: shape (N, 3) [m/s], same frame; None: `v_o_mps` is left out of the result.
 
     Returns:
-        `{"n", "r_o_m" (3,), "v_o_mps" (3,), "d_max_m", "diameter_m", "d_min_m", "uniformity_l"}`, as in
-        `summary.json`'s `final.five_elements`. A bad input raises `ValueError` naming the argument.
+        `{"n", "r_o_m" (3,), "v_o_mps" (3,, only with velocities), "d_max_m", "diameter_m", "d_min_m",
+        "uniformity_l"}`, as in `summary.json`'s `final.five_elements`. A bad input raises `ValueError`
+        naming the argument.
     """
 
 def propagate(
@@ -329,26 +331,47 @@ def propagate(
     duration_s: float,
     step_s: float,
     output_step_s: Optional[float] = None,
-    gravity: Literal["two-body", "j2"] = "j2",
-    frame: Literal["eme2000", "hill"] = "eme2000",
+    gravity: Literal["j2", "two-body", "point-mass"] = "j2",
+    frame: Literal["eme2000", "inertial", "lvlh-hill", "lvlh-gao"] = "eme2000",
     reference: Optional[npt.ArrayLike] = None,
     threads: Optional[int] = None,
+    *,
+    integrator: Literal["rk78", "dop853", "rk4"] = "rk78",
+    rtol: float = 1e-12,
+    atol: float = 1e-6,
+    mu_m3_s2: Optional[float] = None,
+    earth_radius_m: Optional[float] = None,
+    j2: Optional[float] = None,
 ) -> tuple[_FloatArray, _FloatArray]:
-    """Propagates free orbits (no control), as `satflock propagate` does, with RK4.
+    """Propagates free orbits (no control), as `satflock propagate` does: each row alone (with the
+    reference, for the LVLH frames), rows in parallel.
 
     Args:
         states_eci: initial EME2000 states, shape (6,) or (N, 6): x, y, z [m], vx, vy, vz [m/s].
         duration_s: length [s] (> 0).
-        step_s: integration step [s] (> 0).
-        output_step_s: output spacing [s]; outputs at k * output_step_s up to `duration_s`. None: `step_s`.
-        gravity: `"two-body"` (point mass) or `"j2"` (point mass + J2).
-        frame: frame of the returned states: `"eme2000"`, or `"hill"` (Hill LVLH of `reference`).
-        reference: EME2000 state (6,) of the reference orbit, propagated with the same settings; required
-            for `frame="hill"`.
-        threads: worker threads; None: one per core.
+        step_s: integration step [s] (> 0; the largest step of the adaptive integrators).
+        output_step_s: output spacing [s]; outputs at k * output_step_s up to `duration_s`, and
+            `duration_s` itself. None: `step_s`.
+        gravity: `"j2"` (point mass + J2) or `"two-body"` (point mass; also spelled `"point-mass"`).
+        frame: `"eme2000"` (also `"inertial"`), `"lvlh-hill"` (Hill LVLH of `reference`: x radial out,
+            y along-track, z orbit normal) or `"lvlh-gao"` (Gao's o-xyz: x along-track, y minus orbit
+            normal, z nadir). LVLH velocities are seen in the rotating frame.
+        reference: EME2000 state (6,) of the reference orbit [m, m/s], propagated with the same settings;
+            required by the LVLH frames, refused with `"eme2000"`.
+        threads: rows propagated at once; None: one per core.
+        integrator: `"rk78"` (adaptive RKF 7(8)), `"dop853"` (adaptive Dormand-Prince 8(5,3)) or `"rk4"`.
+        rtol: relative tolerance of the adaptive integrators, in (0, 1).
+        atol: absolute tolerance of the adaptive integrators [m, m/s] (> 0).
+        mu_m3_s2: gravitational parameter [m^3/s^2]; None: WGS 84.
+        earth_radius_m: equatorial radius [m]; None: WGS 84.
+        j2: J2 coefficient; None: EGM96.
 
     Returns:
-        `(t_s, states)`: t_s shape (T,) [s]; states shape (T, N, 6) (or (T, 6) for a (6,) input) in `frame`.
+        `(t_s, states)`: t_s shape (R,) [s]; states shape (R, N, 6) (or (R, 6) for a (6,) input) in `frame`.
+
+    Raises:
+        ValueError: a wrong shape or a value out of range, naming the argument (and the row).
+        SimulationError: the integrator failed.
     """
 
 # ------------------------------------------------------------------------------------------- campaigns
