@@ -56,6 +56,12 @@ impl Rk4 {
         state.copy_from_slice(&self.buffers.temp);
     }
 
+    /// Number of steps [`Rk4::integrate`] takes from `t0_s` to `t1_s` (s) with `max_step_s` (s): 0 when
+    /// `t1_s <= t0_s`, else `ceil((t1 - t0) / max_step - 1e-9)`, at least 1.
+    pub fn step_count(t0_s: f64, t1_s: f64, max_step_s: f64) -> usize {
+        StepPlan::new(t0_s, t1_s, max_step_s).map_or(0, |plan| plan.steps)
+    }
+
     /// Advances `state` in place from `t0_s` to `t1_s` (s) in steps of `max_step_s` (s), the last step
     /// shortened to land exactly on `t1_s`.
     ///
