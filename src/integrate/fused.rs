@@ -37,8 +37,9 @@ use crate::orbit::{EarthModel, GravityModel};
 /// Satellites per parallel chunk: splits of the work fall on multiples of it.
 pub const PARALLEL_CHUNK: usize = 512;
 
-/// Least work (satellites × steps of the segment) run in parallel; less runs on the calling thread
-/// (measured on the 2-core reference machine: see `BENCHMARKS.md`).
+/// Least work (satellites × steps of the segment) run in parallel; less runs on the calling thread.
+/// A first estimate (16 384 sat-steps take about 100 µs, a rayon join a few µs), not yet a measured
+/// crossover (see `BENCHMARKS.md`).
 pub const PARALLEL_MIN_SAT_STEPS: usize = 16_384;
 
 /// Which copy of the kernel runs: they give the same bits and differ only in speed.
@@ -291,18 +292,21 @@ struct Part<'a> {
     /// x, y, z, vx, vy, vz.
     pv: [&'a mut [f64]; 6],
     /// The ledger's four components and the command they integrate.
-    ledger: Option<([&'a mut [f64]; 4], &'a [Vector3<f64>])>,
+    ledger: Option<Ledger<'a>>,
     control: Option<&'a [Vector3<f64>]>,
     active: Option<&'a [bool]>,
     /// Index of the part's first satellite in the swarm (for the held inputs).
     offset: usize,
 }
 
+/// The ledger's four components of a part and the commands they integrate.
+type Ledger<'a> = ([&'a mut [f64]; 4], &'a [Vector3<f64>]);
+
 /// Splits every component of a part at `mid`.
-fn split_components<'a, const K: usize>(
-    components: [&'a mut [f64]; K],
+fn split_components<const K: usize>(
+    components: [&mut [f64]; K],
     mid: usize,
-) -> ([&'a mut [f64]; K], [&'a mut [f64]; K]) {
+) -> ([&mut [f64]; K], [&mut [f64]; K]) {
     let mut halves = components.map(|c| c.split_at_mut(mid));
     let low = std::array::from_fn(|k| std::mem::take(&mut halves[k].0));
     let high = std::array::from_fn(|k| std::mem::take(&mut halves[k].1));
