@@ -144,8 +144,10 @@ pub struct SegmentInputs<'a> {
     pub active: Option<&'a [bool]>,
 }
 
-/// Fixed-step RK4 of independent satellites over structure-of-arrays state (see the
-/// [module documentation](self)).
+/// Fixed-step RK4 of independent satellites over structure-of-arrays state: each block of
+/// [`Simd::lanes`] satellites stepped through the whole segment in registers, bitwise identical to
+/// [`Rk4`](super::Rk4) on each satellite alone and for any thread count; in parallel over chunks of
+/// [`PARALLEL_CHUNK`] satellites from [`PARALLEL_MIN_SAT_STEPS`] of work on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FusedRk4 {
     gravity: GravityModel,
