@@ -1,11 +1,15 @@
-//! Benchmark: point-mass + J2 propagation of N independent satellites with RK4 at dt = 1 s, the whole
-//! swarm stepped as one state vector (N = 1, 1 000, 100 000). Throughput is reported in
-//! satellite-steps per second (criterion's "elements").
+//! Benchmark: point-mass + J2 propagation of N independent satellites with RK4 at dt = 1 s. Group
+//! `j2_rk4_1s`: the whole swarm stepped as one state vector by the generic `Rk4` (N = 1, 1 000,
+//! 100 000). Groups `fused_1_step` and `fused_60_steps`: the fused structure-of-arrays kernel
+//! (`FusedRk4`, the engine's sampled path) advancing the swarm by one step (one control period of 1 s)
+//! or by a 60-step segment per call, with the portable (SSE2) copy and the widest the CPU has
+//! (N = 1 000, 10 000, 100 000). Throughput is reported in satellite-steps per second (criterion's
+//! "elements").
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use nalgebra::Vector3;
 use rayon::prelude::*;
-use satflock::integrate::Rk4;
+use satflock::integrate::{FusedRk4, Rk4, SegmentInputs, Simd};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements};
 
 fn swarm_state(n: usize) -> Vec<f64> {
@@ -67,5 +71,49 @@ fn propagation(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, propagation);
+/// The swarm of [`swarm_state`] in the component-major layout.
+fn component_major(n: usize) -> Vec<f64> {
+    let y = swarm_state(n);
+    (0..6)
+        .flat_map(|k| y.iter().skip(k).step_by(6).copied().collect::<Vec<_>>())
+        .collect()
+}
+
+fn fused(c: &mut Criterion) {
+    for steps in [1usize, 60] {
+        let mut group = c.benchmark_group(format!(
+            "fused_{steps}_step{}",
+            if steps > 1 { "s" } else { "" }
+        ));
+        for simd in [Simd::Portable, Simd::detect()] {
+            let kernel = FusedRk4::new(GravityModel::J2, EarthModel::WGS84_EGM96)
+                .with_simd(simd)
+                .expect("portable and detected copies run");
+            for n in [1_000usize, 10_000, 100_000] {
+                let mut y = component_major(n);
+                group.throughput(Throughput::Elements((n * steps) as u64));
+                if n * steps >= 1_000_000 {
+                    group.sample_size(10);
+                }
+                let id = BenchmarkId::new(simd.name(), n);
+                group.bench_with_input(id, &n, |b, _| {
+                    let mut t = 0.0;
+                    b.iter(|| {
+                        let t1 = t + steps as f64;
+                        kernel
+                            .advance(&mut y, n, &SegmentInputs::default(), t, t1, 1.0)
+                            .expect("valid input");
+                        t = t1;
+                    })
+                });
+            }
+            if simd == Simd::Portable && Simd::detect() == Simd::Portable {
+                break;
+            }
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, propagation, fused);
 criterion_main!(benches);

@@ -26,7 +26,7 @@
 //! | front | [`campaign`] | many runs of a scenario over seeds and parameters, in a bounded pool of whole runs; manifest, Parquet table, statistics |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod campaign;

@@ -14,6 +14,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
+mod bench;
 mod campaign;
 mod characterize;
 
@@ -152,6 +153,11 @@ enum Command {
         /// With a trajectory file: the recorded time nearest to this [s] (default: the last one).
         #[arg(long)]
         time_s: Option<f64>,
+    },
+    /// Performance measurements, one JSON line per case (`satflock bench propagate`).
+    Bench {
+        #[command(subcommand)]
+        case: bench::BenchCommand,
     },
     /// Propagate one orbit (no control) and write its states to CSV (and, with --oem, a CCSDS OEM).
     #[command(allow_negative_numbers = true)]
@@ -424,6 +430,7 @@ fn main() -> ExitCode {
         },
         Command::Characterize { positions, time_s } => characterize::run(&positions, time_s),
         Command::Propagate(args) => propagate_command(&args),
+        Command::Bench { case } => bench::bench_command(&case),
         Command::Export { format } => export::export_command(format),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
         Command::Campaign(args) => campaign::campaign_command(&args),

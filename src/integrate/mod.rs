@@ -30,12 +30,16 @@
 //! step the step is not allowed to grow.
 
 mod adaptive;
+mod fused;
 mod rk4;
 mod stages;
 mod stepper;
 mod tableau;
 
 pub use adaptive::{AdaptiveStepper, IntegrationStats};
+pub use fused::{
+    FusedError, FusedRk4, SegmentInputs, Simd, PARALLEL_CHUNK, PARALLEL_MIN_SAT_STEPS,
+};
 pub use rk4::Rk4;
 pub use stages::{CHUNK_LEN, PARALLEL_MIN_LEN};
 pub use stepper::Stepper;
@@ -129,6 +133,9 @@ pub enum IntegrateError {
         /// End time (s).
         t1_s: f64,
     },
+    /// The fused kernel refused its input.
+    #[error(transparent)]
+    Fused(#[from] FusedError),
 }
 
 /// Choice of integration method, as written in scenario files and on the command line.

@@ -4,11 +4,11 @@ use super::stages::StageBuffers;
 use super::OdeSystem;
 
 /// Nodes of the classical RK4 tableau.
-const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
+pub(super) const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
 /// Coupling coefficients of the classical RK4 tableau (row `i` on stages `0..i`).
-const A: [&[f64]; 4] = [&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]];
+pub(super) const A: [&[f64]; 4] = [&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]];
 /// Weights of the classical RK4 tableau.
-const B: [f64; 4] = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
+pub(super) const B: [f64; 4] = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
 
 /// Classical Runge-Kutta of order 4 with a fixed step, over a state of a fixed length.
 ///
@@ -56,6 +56,12 @@ impl Rk4 {
         state.copy_from_slice(&self.buffers.temp);
     }
 
+    /// Number of steps [`Rk4::integrate`] takes from `t0_s` to `t1_s` (s) with `max_step_s` (s): 0 when
+    /// `t1_s <= t0_s`, else `ceil((t1 - t0) / max_step - 1e-9)`, at least 1.
+    pub fn step_count(t0_s: f64, t1_s: f64, max_step_s: f64) -> usize {
+        StepPlan::new(t0_s, t1_s, max_step_s).map_or(0, |plan| plan.steps)
+    }
+
     /// Advances `state` in place from `t0_s` to `t1_s` (s) in steps of `max_step_s` (s), the last step
     /// shortened to land exactly on `t1_s`.
     ///
@@ -78,14 +84,50 @@ impl Rk4 {
             max_step_s > 0.0 && max_step_s.is_finite(),
             "max_step_s must be positive and finite, got {max_step_s}"
         );
-        if t1_s <= t0_s {
+        let Some(plan) = StepPlan::new(t0_s, t1_s, max_step_s) else {
             return;
+        };
+        for i in 0..plan.steps {
+            self.step(system, plan.start_s(i), state, plan.step_s(i));
         }
-        let steps = ((t1_s - t0_s) / max_step_s - 1e-9).ceil().max(1.0) as usize;
-        for i in 0..steps {
-            let t = t0_s + i as f64 * max_step_s;
-            let h = if i + 1 == steps { t1_s - t } else { max_step_s };
-            self.step(system, t, state, h);
+    }
+}
+
+/// The steps of [`Rk4::integrate`] from `t0_s` to `t1_s`: `steps` steps of `max_step_s`, the last one
+/// shortened (or lengthened by at most a relative 1e-9) to land on `t1_s`. Shared by the fused kernel so
+/// that both split an interval identically.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct StepPlan {
+    t0_s: f64,
+    t1_s: f64,
+    max_step_s: f64,
+    /// Number of steps, at least 1.
+    pub(super) steps: usize,
+}
+
+impl StepPlan {
+    /// The plan, or `None` when `t1_s <= t0_s` (nothing to do). `max_step_s` must be positive.
+    pub(super) fn new(t0_s: f64, t1_s: f64, max_step_s: f64) -> Option<Self> {
+        (t1_s > t0_s).then(|| Self {
+            t0_s,
+            t1_s,
+            max_step_s,
+            steps: ((t1_s - t0_s) / max_step_s - 1e-9).ceil().max(1.0) as usize,
+        })
+    }
+
+    /// Start of step `i` (s): `t0 + i * max_step`, so times do not accumulate rounding.
+    pub(super) fn start_s(&self, i: usize) -> f64 {
+        self.t0_s + i as f64 * self.max_step_s
+    }
+
+    /// Length of step `i` (s).
+    #[inline]
+    pub(super) fn step_s(&self, i: usize) -> f64 {
+        if i + 1 == self.steps {
+            self.t1_s - self.start_s(i)
+        } else {
+            self.max_step_s
         }
     }
 }

@@ -52,8 +52,8 @@ use crate::swarm::events::{Event, EventAction, Selection};
 use crate::swarm::law::{Law, SwarmView};
 use crate::swarm::state::SwarmState;
 use monitors::LiveMetrics;
-use propagation::{SampledBuffers, StageScratch, SOLO};
-use sensing::{Fleet, Plant, Sensed, CHUNK};
+use propagation::{SampledBuffers, StageScratch};
+use sensing::{Fleet, Plant, Sensed};
 
 /// How a segment's integration is done: the coupled system (continuous) or satellites alone (sampled).
 /// Only the buffers of the chosen mode are allocated.
@@ -190,15 +190,14 @@ impl Simulation {
                 )),
                 scratch: Box::new(Mutex::new(StageScratch::new(n))),
             },
-            ControlTiming::Sampled { .. } => Integration::Sampled(SampledBuffers {
-                steppers: (0..n.div_ceil(CHUNK))
-                    .map(|_| {
-                        Stepper::new(config.integrator, SOLO, config.tolerances, config.step_s)
-                    })
-                    .collect(),
-                per_satellite: vec![[0.0; SOLO]; n],
-                step_guesses_s: vec![None; n],
-            }),
+            ControlTiming::Sampled { .. } => Integration::Sampled(SampledBuffers::new(
+                config.dynamics,
+                &config.earth,
+                config.integrator,
+                config.tolerances,
+                config.step_s,
+                n,
+            )),
         };
         let fleet = Fleet {
             masses_kg: satellites.iter().map(|s| s.mass_kg).collect(),

@@ -1,0 +1,800 @@
+//! The fused structure-of-arrays RK4 kernel: fixed-step RK4 of many independent satellites under point
+//! mass or point mass + J2 gravity plus a constant per-satellite acceleration, with an optional delta-v
+//! ledger, over the component-major layout `x[0..n], y[0..n], z[0..n], vx[0..n], vy[0..n], vz[0..n]`
+//! (then, with the ledger, its four components likewise).
+//!
+//! # Fused
+//!
+//! The generic [`Rk4`](super::Rk4) makes one pass over the whole state per stage combination (five per
+//! step) plus one per right-hand side. Here a block of [`Simd::lanes`] satellites is loaded into
+//! `[f64; LANES]` arrays once per segment, stepped through every step of the segment in registers (four
+//! gravity evaluations and the stage arithmetic per step), and stored once: one pass over memory per
+//! segment. The lane loops are written so that LLVM vectorises them (SSE2 in the portable build; AVX2 or
+//! AVX-512 copies of the same code chosen at run time by [`Simd::detect`]).
+//!
+//! # Bitwise identity
+//!
+//! Every satellite's numbers are computed by the same IEEE operations, in the same order, as the generic
+//! [`Rk4`](super::Rk4) stepping one satellite (`y + h * (0.0 + a k)` for the stage arguments with zero
+//! coefficients skipped, `y + h * ((((0.0 + b0 k1) + b1 k2) + b2 k3) + b3 k4)` for the new state, the
+//! steps split as [`Rk4::integrate`](super::Rk4::integrate) splits them) with the right-hand side of
+//! [`GravityModel::acceleration_m_s2`] plus the held acceleration. Rust does not contract `a * b + c`
+//! into a fused multiply-add and no copy enables FMA, so the portable and wide copies give the same bits,
+//! which the tests check against the generic stepper. Satellites do not interact, so the result of one
+//! does not depend on its lane, block, chunk or thread: it is bitwise identical for any thread count.
+//!
+//! # Parallelism
+//!
+//! When the work (satellites × steps) reaches [`PARALLEL_MIN_SAT_STEPS`] and the rayon pool has more than
+//! one thread, the satellites are split in halves at multiples of [`PARALLEL_CHUNK`] by `rayon::join`;
+//! below it, or on one thread, the kernel runs on the calling thread with no fork-join at all.
+
+use nalgebra::Vector3;
+
+use super::rk4::{StepPlan, A, B};
+use crate::orbit::{EarthModel, GravityModel};
+
+/// Satellites per parallel chunk: splits of the work fall on multiples of it.
+pub const PARALLEL_CHUNK: usize = 512;
+
+/// Least work (satellites × steps of the segment) run in parallel; less runs on the calling thread.
+/// A first estimate (16 384 sat-steps take about 100 µs, a rayon join a few µs), not yet a measured
+/// crossover (see `BENCHMARKS.md`).
+pub const PARALLEL_MIN_SAT_STEPS: usize = 16_384;
+
+/// Which copy of the kernel runs: they give the same bits and differ only in speed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Simd {
+    /// The portable build (baseline x86-64: SSE2, two `f64` per instruction), 4 lanes.
+    Portable,
+    /// AVX2 (four `f64` per instruction), 8 lanes; x86-64 only, when the CPU has it.
+    Avx2,
+    /// AVX-512F (eight `f64` per instruction), 8 lanes; x86-64 only, when the CPU has it.
+    Avx512,
+}
+
+impl Simd {
+    /// Every copy, in the order of [`Simd::NAMES`].
+    pub const ALL: [Simd; 3] = [Simd::Portable, Simd::Avx2, Simd::Avx512];
+    /// The names of the copies, as [`Simd::name`] gives them.
+    pub const NAMES: [&'static str; 3] = ["portable", "avx2", "avx512"];
+
+    /// The copy's name: `"portable"`, `"avx2"` or `"avx512"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Simd::Portable => Self::NAMES[0],
+            Simd::Avx2 => Self::NAMES[1],
+            Simd::Avx512 => Self::NAMES[2],
+        }
+    }
+
+    /// Whether this CPU runs the copy.
+    pub fn is_available(self) -> bool {
+        match self {
+            Simd::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
+            #[cfg(not(target_arch = "x86_64"))]
+            Simd::Avx2 | Simd::Avx512 => false,
+        }
+    }
+
+    /// The widest copy this CPU runs.
+    pub fn detect() -> Simd {
+        [Simd::Avx512, Simd::Avx2]
+            .into_iter()
+            .find(|s| s.is_available())
+            .unwrap_or(Simd::Portable)
+    }
+
+    /// Satellites stepped together by the copy.
+    pub fn lanes(self) -> usize {
+        match self {
+            Simd::Portable => PORTABLE_LANES,
+            Simd::Avx2 | Simd::Avx512 => WIDE_LANES,
+        }
+    }
+}
+
+/// Lanes of the portable copy (two SSE2 registers per quantity).
+const PORTABLE_LANES: usize = 4;
+/// Lanes of the AVX2 and AVX-512 copies.
+const WIDE_LANES: usize = 8;
+
+/// Why the kernel refused to run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FusedError {
+    /// A slice has the wrong length for `n` satellites.
+    #[error("{what} has length {got}, expected {expected}")]
+    Length {
+        /// Which slice.
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// The length needed.
+        expected: usize,
+    },
+    /// The step is not finite and positive, or an end of the interval is not finite.
+    #[error("invalid step {max_step_s} s or interval [{t0_s}, {t1_s}] s (need a finite step > 0 and finite times)")]
+    Interval {
+        /// Start time (s).
+        t0_s: f64,
+        /// End time (s).
+        t1_s: f64,
+        /// Longest step (s).
+        max_step_s: f64,
+    },
+    /// The requested copy does not run on this CPU.
+    #[error("the {} kernel does not run on this CPU", .0.name())]
+    Unavailable(Simd),
+}
+
+/// What each satellite holds constant over a segment. Every slice present has one entry per satellite.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SegmentInputs<'a> {
+    /// Acceleration added to gravity, ECI \[m/s^2\] (the held command); `None`: none.
+    pub control_eci_m_s2: Option<&'a [Vector3<f64>]>,
+    /// The command the delta-v ledger integrates (Hill axes) \[m/s^2\]: present exactly when the state
+    /// holds the four ledger components (∫|u_x|, ∫|u_y|, ∫|u_z|, ∫‖u‖ dt, in m/s).
+    pub ledger_command_hill_m_s2: Option<&'a [Vector3<f64>]>,
+    /// Which satellites move (the others are left as they are); `None`: all.
+    pub active: Option<&'a [bool]>,
+}
+
+/// Fixed-step RK4 of independent satellites over structure-of-arrays state: each block of
+/// [`Simd::lanes`] satellites stepped through the whole segment in registers, bitwise identical to
+/// [`Rk4`](super::Rk4) on each satellite alone and for any thread count; in parallel over chunks of
+/// [`PARALLEL_CHUNK`] satellites from [`PARALLEL_MIN_SAT_STEPS`] of work on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FusedRk4 {
+    gravity: GravityModel,
+    earth: EarthModel,
+    simd: Simd,
+}
+
+impl FusedRk4 {
+    /// A kernel for `gravity` with the constants `earth`, running the widest copy this CPU has.
+    pub fn new(gravity: GravityModel, earth: EarthModel) -> Self {
+        Self {
+            gravity,
+            earth,
+            simd: Simd::detect(),
+        }
+    }
+
+    /// The same kernel running the copy `simd` (same bits, other speed); refused when the CPU lacks it.
+    pub fn with_simd(self, simd: Simd) -> Result<Self, FusedError> {
+        if simd.is_available() {
+            Ok(Self { simd, ..self })
+        } else {
+            Err(FusedError::Unavailable(simd))
+        }
+    }
+
+    /// The copy that runs.
+    pub fn simd(&self) -> Simd {
+        self.simd
+    }
+
+    /// Advances the `n` satellites in `state` from `t0_s` to `t1_s` (s) in RK4 steps of `max_step_s` (s),
+    /// split as [`Rk4::integrate`](super::Rk4::integrate) splits them; nothing when `t1_s <= t0_s`.
+    ///
+    /// `state` is component-major: positions x, y, z \[m\] then velocities \[m/s\], `n` values each, in
+    /// the inertial frame of the gravity model (z the Earth's polar axis); followed by the four ledger
+    /// components \[m/s\] exactly when `inputs.ledger_command_hill_m_s2` is present (length `10 n`, else
+    /// `6 n`).
+    pub fn advance(
+        &self,
+        state: &mut [f64],
+        n: usize,
+        inputs: &SegmentInputs<'_>,
+        t0_s: f64,
+        t1_s: f64,
+        max_step_s: f64,
+    ) -> Result<(), FusedError> {
+        let components = if inputs.ledger_command_hill_m_s2.is_some() {
+            10
+        } else {
+            6
+        };
+        let check = |what, got: usize, expected: usize| {
+            if got == expected {
+                Ok(())
+            } else {
+                Err(FusedError::Length {
+                    what,
+                    got,
+                    expected,
+                })
+            }
+        };
+        check("state", state.len(), components * n)?;
+        if let Some(c) = inputs.control_eci_m_s2 {
+            check("control_eci_m_s2", c.len(), n)?;
+        }
+        if let Some(c) = inputs.ledger_command_hill_m_s2 {
+            check("ledger_command_hill_m_s2", c.len(), n)?;
+        }
+        if let Some(a) = inputs.active {
+            check("active", a.len(), n)?;
+        }
+        if !(max_step_s > 0.0 && max_step_s.is_finite() && t0_s.is_finite() && t1_s.is_finite()) {
+            return Err(FusedError::Interval {
+                t0_s,
+                t1_s,
+                max_step_s,
+            });
+        }
+        let Some(plan) = StepPlan::new(t0_s, t1_s, max_step_s) else {
+            return Ok(());
+        };
+        let (pv, ledger) = state.split_at_mut(6 * n);
+        let mut pv = pv.chunks_exact_mut(n.max(1));
+        let mut next = || pv.next().unwrap_or_default();
+        let part = Part {
+            pv: [next(), next(), next(), next(), next(), next()],
+            ledger: inputs.ledger_command_hill_m_s2.map(|command| {
+                let mut l = ledger.chunks_exact_mut(n.max(1));
+                let mut next = || l.next().unwrap_or_default();
+                ([next(), next(), next(), next()], command)
+            }),
+            control: inputs.control_eci_m_s2,
+            active: inputs.active,
+            offset: 0,
+        };
+        let parallel = n.saturating_mul(plan.steps) >= PARALLEL_MIN_SAT_STEPS
+            && rayon::current_num_threads() > 1;
+        let constants = Constants::new(&self.earth);
+        let job = Job {
+            constants,
+            plan,
+            j2: self.gravity == GravityModel::J2,
+            simd: self.simd,
+        };
+        if parallel {
+            run_parallel(&job, part);
+        } else {
+            job.run(part);
+        }
+        Ok(())
+    }
+}
+
+/// The Earth constants as the gravity expression uses them.
+#[derive(Clone, Copy, Debug)]
+struct Constants {
+    /// mu \[m^3/s^2\].
+    mu: f64,
+    /// `1.5 J2 R R` \[m^2\], evaluated in the order of [`GravityModel::acceleration_m_s2`].
+    j2_r2: f64,
+}
+
+impl Constants {
+    fn new(earth: &EarthModel) -> Self {
+        Self {
+            mu: earth.mu_m3_s2,
+            j2_r2: 1.5 * earth.j2 * earth.equatorial_radius_m * earth.equatorial_radius_m,
+        }
+    }
+}
+
+/// One segment's work, the same for every part of the swarm.
+struct Job {
+    constants: Constants,
+    plan: StepPlan,
+    j2: bool,
+    simd: Simd,
+}
+
+/// A contiguous range of satellites: their state components and held inputs.
+struct Part<'a> {
+    /// x, y, z, vx, vy, vz.
+    pv: [&'a mut [f64]; 6],
+    /// The ledger's four components and the command they integrate.
+    ledger: Option<Ledger<'a>>,
+    control: Option<&'a [Vector3<f64>]>,
+    active: Option<&'a [bool]>,
+    /// Index of the part's first satellite in the swarm (for the held inputs).
+    offset: usize,
+}
+
+/// The ledger's four components of a part and the commands they integrate.
+type Ledger<'a> = ([&'a mut [f64]; 4], &'a [Vector3<f64>]);
+
+/// Splits every component of a part at `mid`.
+fn split_components<const K: usize>(
+    components: [&mut [f64]; K],
+    mid: usize,
+) -> ([&mut [f64]; K], [&mut [f64]; K]) {
+    let mut halves = components.map(|c| c.split_at_mut(mid));
+    let low = std::array::from_fn(|k| std::mem::take(&mut halves[k].0));
+    let high = std::array::from_fn(|k| std::mem::take(&mut halves[k].1));
+    (low, high)
+}
+
+impl<'a> Part<'a> {
+    fn len(&self) -> usize {
+        self.pv[0].len()
+    }
+
+    fn split_at(self, mid: usize) -> (Part<'a>, Part<'a>) {
+        let (pv_low, pv_high) = split_components(self.pv, mid);
+        let (ledger_low, ledger_high) = match self.ledger {
+            Some((l, command)) => {
+                let (low, high) = split_components(l, mid);
+                (Some((low, command)), Some((high, command)))
+            }
+            None => (None, None),
+        };
+        (
+            Part {
+                pv: pv_low,
+                ledger: ledger_low,
+                offset: self.offset,
+                ..self
+            },
+            Part {
+                pv: pv_high,
+                ledger: ledger_high,
+                offset: self.offset + mid,
+                ..self
+            },
+        )
+    }
+}
+
+/// Runs `part` split in halves at multiples of [`PARALLEL_CHUNK`] on the rayon pool.
+fn run_parallel(job: &Job, part: Part<'_>) {
+    let chunks = part.len() / PARALLEL_CHUNK;
+    if chunks < 2 {
+        job.run(part);
+        return;
+    }
+    let (low, high) = part.split_at(chunks / 2 * PARALLEL_CHUNK);
+    rayon::join(|| run_parallel(job, low), || run_parallel(job, high));
+}
+
+impl Job {
+    /// Runs `part` on this thread with the chosen copy of the kernel.
+    #[allow(unsafe_code)]
+    fn run(&self, part: Part<'_>) {
+        #[cfg(target_arch = "x86_64")]
+        match self.simd {
+            Simd::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
+                // SAFETY: the CPU has AVX-512F (detected on the line above), the only feature the
+                // function enables.
+                return unsafe { run_avx512(self, part) };
+            }
+            Simd::Avx2 if std::arch::is_x86_feature_detected!("avx2") => {
+                // SAFETY: the CPU has AVX2 (detected on the line above), the only feature the function
+                // enables.
+                return unsafe { run_avx2(self, part) };
+            }
+            _ => {}
+        }
+        run_lanes::<PORTABLE_LANES>(self, part);
+    }
+}
+
+/// The kernel compiled for AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn run_avx512(job: &Job, part: Part<'_>) {
+    run_lanes::<WIDE_LANES>(job, part);
+}
+
+/// The kernel compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn run_avx2(job: &Job, part: Part<'_>) {
+    run_lanes::<WIDE_LANES>(job, part);
+}
+
+/// `L` quantities of one kind, one per lane.
+type Lanes<const L: usize> = [f64; L];
+/// A 3-vector per lane, component-major.
+type Vec3<const L: usize> = [Lanes<L>; 3];
+
+#[inline(always)]
+fn run_lanes<const L: usize>(job: &Job, part: Part<'_>) {
+    if job.j2 {
+        run_blocks::<L, true>(job, part);
+    } else {
+        run_blocks::<L, false>(job, part);
+    }
+}
+
+/// Steps every satellite of `part`, `L` at a time, through the whole segment, then its ledger.
+#[inline(always)]
+fn run_blocks<const L: usize, const J2: bool>(job: &Job, part: Part<'_>) {
+    let Part {
+        pv,
+        ledger,
+        control,
+        active,
+        offset,
+    } = part;
+    let n = pv[0].len();
+    let moves = |i: usize| active.is_none_or(|a| a[offset + i]);
+    let mut start = 0;
+    while start < n {
+        let len = L.min(n - start);
+        let mut p: Vec3<L> = [[0.0; L]; 3];
+        let mut v: Vec3<L> = [[0.0; L]; 3];
+        let mut u: Vec3<L> = [[0.0; L]; 3];
+        // The unused lanes of the last block repeat its last satellite (finite, never stored).
+        for l in 0..L {
+            let i = start + l.min(len - 1);
+            for k in 0..3 {
+                p[k][l] = pv[k][i];
+                v[k][l] = pv[k + 3][i];
+            }
+            if let Some(c) = control {
+                let c = c[offset + i];
+                for k in 0..3 {
+                    u[k][l] = c[k];
+                }
+            }
+        }
+        for s in 0..job.plan.steps {
+            step::<L, J2>(&job.constants, &mut p, &mut v, &u, job.plan.step_s(s));
+        }
+        for l in 0..len {
+            if moves(start + l) {
+                for k in 0..3 {
+                    pv[k][start + l] = p[k][l];
+                    pv[k + 3][start + l] = v[k][l];
+                }
+            }
+        }
+        start += len;
+    }
+    if let Some((mut ledger, command)) = ledger {
+        for i in (0..n).filter(|&i| moves(i)) {
+            let u = command[offset + i];
+            let rates = [u.x.abs(), u.y.abs(), u.z.abs(), u.norm()];
+            for (component, rate) in ledger.iter_mut().zip(rates) {
+                // The RK4 combination of four equal stage derivatives, as the generic stepper forms it.
+                let slope = (((0.0 + B[0] * rate) + B[1] * rate) + B[2] * rate) + B[3] * rate;
+                let mut value = component[i];
+                for s in 0..job.plan.steps {
+                    value += job.plan.step_s(s) * slope;
+                }
+                component[i] = value;
+            }
+        }
+    }
+}
+
+/// Gravity plus the held acceleration at `p`, per lane, as [`GravityModel::acceleration_m_s2`] forms it.
+#[inline(always)]
+fn acceleration<const L: usize, const J2: bool>(
+    c: &Constants,
+    p: &Vec3<L>,
+    u: &Vec3<L>,
+) -> Vec3<L> {
+    let mut a = [[0.0; L]; 3];
+    for l in 0..L {
+        let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
+        let r2 = x * x + y * y + z * z;
+        let r = r2.sqrt();
+        let mu_over_r3 = c.mu / (r2 * r);
+        let (horizontal, vertical) = if J2 {
+            let k = c.j2_r2 / r2;
+            let five_z2_over_r2 = 5.0 * z * z / r2;
+            (
+                -mu_over_r3 * (1.0 + k * (1.0 - five_z2_over_r2)),
+                -mu_over_r3 * (1.0 + k * (3.0 - five_z2_over_r2)),
+            )
+        } else {
+            (-mu_over_r3, -mu_over_r3)
+        };
+        a[0][l] = horizontal * x + u[0][l];
+        a[1][l] = horizontal * y + u[1][l];
+        a[2][l] = vertical * z + u[2][l];
+    }
+    a
+}
+
+/// `y + h * (0.0 + a k)`: a stage argument of the generic stepper (one non-zero coefficient).
+#[inline(always)]
+fn stage<const L: usize>(y: &Vec3<L>, h: f64, a: f64, k: &Vec3<L>) -> Vec3<L> {
+    let mut out = [[0.0; L]; 3];
+    for c in 0..3 {
+        for l in 0..L {
+            out[c][l] = y[c][l] + h * (0.0 + a * k[c][l]);
+        }
+    }
+    out
+}
+
+/// `y + h * ((((0.0 + b0 k1) + b1 k2) + b2 k3) + b3 k4)`, in place: the new state of the generic stepper.
+#[inline(always)]
+fn combine<const L: usize>(y: &mut Vec3<L>, h: f64, k: [&Vec3<L>; 4]) {
+    for c in 0..3 {
+        for l in 0..L {
+            let sum = (((0.0 + B[0] * k[0][c][l]) + B[1] * k[1][c][l]) + B[2] * k[2][c][l])
+                + B[3] * k[3][c][l];
+            y[c][l] += h * sum;
+        }
+    }
+}
+
+/// One RK4 step of `L` satellites; the position's derivative is the velocity.
+#[inline(always)]
+fn step<const L: usize, const J2: bool>(
+    c: &Constants,
+    p: &mut Vec3<L>,
+    v: &mut Vec3<L>,
+    u: &Vec3<L>,
+    h: f64,
+) {
+    let a1 = acceleration::<L, J2>(c, p, u);
+    let p2 = stage(p, h, A[1][0], v);
+    let v2 = stage(v, h, A[1][0], &a1);
+    let a2 = acceleration::<L, J2>(c, &p2, u);
+    let p3 = stage(p, h, A[2][1], &v2);
+    let v3 = stage(v, h, A[2][1], &a2);
+    let a3 = acceleration::<L, J2>(c, &p3, u);
+    let p4 = stage(p, h, A[3][2], &v3);
+    let v4 = stage(v, h, A[3][2], &a3);
+    let a4 = acceleration::<L, J2>(c, &p4, u);
+    let v1 = *v;
+    combine(p, h, [&v1, &v2, &v3, &v4]);
+    combine(v, h, [&a1, &a2, &a3, &a4]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::Rk4;
+
+    /// Deterministic numbers in [0, 1) (splitmix64).
+    struct Numbers(u64);
+
+    impl Numbers {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        }
+
+        fn vector(&mut self, scale: f64) -> Vector3<f64> {
+            Vector3::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5) * scale
+        }
+    }
+
+    /// A random swarm: per satellite `[x, y, z, vx, vy, vz, ledger x4]` (LEO-like, some exact zeros),
+    /// commands, ledger commands and an activity mask.
+    struct Case {
+        blocks: Vec<[f64; 10]>,
+        control: Vec<Vector3<f64>>,
+        command: Vec<Vector3<f64>>,
+        active: Vec<bool>,
+    }
+
+    fn case(n: usize, seed: u64) -> Case {
+        let mut rng = Numbers(seed);
+        let blocks = (0..n)
+            .map(|i| {
+                let mut p = rng.vector(2.0).normalize() * (6.7e6 + 1e6 * rng.next());
+                let mut v = rng.vector(1.0).cross(&p).normalize() * (7.4e3 + 300.0 * rng.next());
+                if i % 7 == 3 {
+                    // An equatorial orbit: z and vz exactly zero (signed zeros in the stages).
+                    p.z = 0.0;
+                    v.z = 0.0;
+                }
+                let l = rng.vector(2.0);
+                [
+                    p.x,
+                    p.y,
+                    p.z,
+                    v.x,
+                    v.y,
+                    v.z,
+                    l.x.abs(),
+                    l.y.abs(),
+                    l.z.abs(),
+                    l.norm(),
+                ]
+            })
+            .collect();
+        Case {
+            blocks,
+            control: (0..n).map(|_| rng.vector(1e-3)).collect(),
+            command: (0..n).map(|_| rng.vector(2e-3)).collect(),
+            active: (0..n).map(|i| i % 5 != 2).collect(),
+        }
+    }
+
+    /// The engine's reference: every satellite alone through the generic RK4 (10 components with the
+    /// ledger, 6 without), as `advance_sampled` and `propagate` form their right-hand sides.
+    fn reference(
+        c: &Case,
+        gravity: GravityModel,
+        inputs: (bool, bool, bool),
+        (t0, t1, h): (f64, f64, f64),
+    ) -> Vec<[f64; 10]> {
+        let (control, ledger, mask) = inputs;
+        let earth = EarthModel::WGS84_EGM96;
+        let dim = if ledger { 10 } else { 6 };
+        let mut rk = Rk4::new(dim);
+        c.blocks
+            .iter()
+            .enumerate()
+            .map(|(i, block)| {
+                let mut y = *block;
+                if mask && !c.active[i] {
+                    return y;
+                }
+                let u = c.control[i];
+                let w = c.command[i];
+                let rates = [w.x.abs(), w.y.abs(), w.z.abs(), w.norm()];
+                let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
+                    let g = gravity.acceleration_m_s2(&earth, &Vector3::new(y[0], y[1], y[2]));
+                    let a = if control { g + u } else { g };
+                    dy[0..3].copy_from_slice(&y[3..6]);
+                    dy[3..6].copy_from_slice(a.as_slice());
+                    if ledger {
+                        dy[6..10].copy_from_slice(&rates);
+                    }
+                };
+                rk.integrate(&rhs, t0, t1, &mut y[..dim], h);
+                y
+            })
+            .collect()
+    }
+
+    /// The fused kernel on the same case, in the component-major layout.
+    fn fused(
+        c: &Case,
+        kernel: &FusedRk4,
+        (control, ledger, mask): (bool, bool, bool),
+        (t0, t1, h): (f64, f64, f64),
+    ) -> Vec<[f64; 10]> {
+        let n = c.blocks.len();
+        let dim = if ledger { 10 } else { 6 };
+        let mut flat: Vec<f64> = (0..dim)
+            .flat_map(|k| c.blocks.iter().map(move |b| b[k]))
+            .collect();
+        let inputs = SegmentInputs {
+            control_eci_m_s2: control.then_some(&c.control[..]),
+            ledger_command_hill_m_s2: ledger.then_some(&c.command[..]),
+            active: mask.then_some(&c.active[..]),
+        };
+        kernel.advance(&mut flat, n, &inputs, t0, t1, h).unwrap();
+        c.blocks
+            .iter()
+            .enumerate()
+            .map(|(i, b)| {
+                let mut out = *b;
+                for (k, value) in out.iter_mut().take(dim).enumerate() {
+                    *value = flat[k * n + i];
+                }
+                out
+            })
+            .collect()
+    }
+
+    fn assert_bitwise(got: &[[f64; 10]], want: &[[f64; 10]], what: &str) {
+        for (i, (g, w)) in got.iter().zip(want).enumerate() {
+            for k in 0..10 {
+                assert_eq!(
+                    g[k].to_bits(),
+                    w[k].to_bits(),
+                    "{what}: satellite {i} component {k}: {} != {}",
+                    g[k],
+                    w[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn bitwise_identical_to_the_generic_rk4_for_every_copy_and_thread_count() {
+        let intervals = [(0.3, 7.55, 1.0), (10.0, 10.3, 0.1), (0.0, 60.0, 5.0)];
+        let mut tested = 0;
+        for n in [1, 3, 13, 1100] {
+            let c = case(n, n as u64);
+            for gravity in [GravityModel::J2, GravityModel::TwoBody] {
+                for inputs in [
+                    (false, false, false),
+                    (true, true, true),
+                    (true, false, true),
+                ] {
+                    for interval in intervals {
+                        let want = reference(&c, gravity, inputs, interval);
+                        for simd in Simd::ALL.into_iter().filter(|s| s.is_available()) {
+                            let kernel = FusedRk4::new(gravity, EarthModel::WGS84_EGM96)
+                                .with_simd(simd)
+                                .unwrap();
+                            for threads in [1, 2, 4] {
+                                let pool = rayon::ThreadPoolBuilder::new()
+                                    .num_threads(threads)
+                                    .build()
+                                    .unwrap();
+                                let got = pool.install(|| fused(&c, &kernel, inputs, interval));
+                                let what = format!(
+                                    "n {n} {gravity} {inputs:?} {interval:?} {} {threads} threads",
+                                    simd.name()
+                                );
+                                assert_bitwise(&got, &want, &what);
+                                tested += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(tested >= 4 * 2 * 3 * 3 * 3);
+    }
+
+    #[test]
+    fn an_empty_interval_changes_nothing_and_bad_input_is_refused() {
+        let c = case(5, 1);
+        let kernel = FusedRk4::new(GravityModel::J2, EarthModel::WGS84_EGM96);
+        let inputs = (true, true, true);
+        assert_bitwise(
+            &fused(&c, &kernel, inputs, (3.0, 3.0, 1.0)),
+            &c.blocks,
+            "empty interval",
+        );
+        let mut state = vec![7e6; 29];
+        let none = SegmentInputs::default();
+        assert!(matches!(
+            kernel.advance(&mut state, 5, &none, 0.0, 1.0, 1.0),
+            Err(FusedError::Length {
+                what: "state",
+                got: 29,
+                expected: 30
+            })
+        ));
+        let short = [true; 4];
+        let masked = SegmentInputs {
+            active: Some(&short),
+            ..none
+        };
+        let mut state = vec![7e6; 30];
+        assert!(matches!(
+            kernel.advance(&mut state, 5, &masked, 0.0, 1.0, 1.0),
+            Err(FusedError::Length { what: "active", .. })
+        ));
+        for (t0, t1, h) in [
+            (0.0, 1.0, 0.0),
+            (0.0, 1.0, f64::NAN),
+            (0.0, f64::INFINITY, 1.0),
+        ] {
+            assert!(matches!(
+                kernel.advance(&mut state, 5, &none, t0, t1, h),
+                Err(FusedError::Interval { .. })
+            ));
+        }
+        assert!(state.iter().all(|&x| x == 7e6));
+        let mut empty: Vec<f64> = Vec::new();
+        kernel
+            .advance(&mut empty, 0, &none, 0.0, 10.0, 1.0)
+            .unwrap();
+    }
+
+    #[test]
+    fn detect_names_an_available_copy() {
+        assert!(Simd::detect().is_available());
+        assert!(Simd::Portable.is_available());
+        for simd in Simd::ALL {
+            assert_eq!(
+                Simd::NAMES.iter().position(|&n| n == simd.name()),
+                Some(simd as usize)
+            );
+            let kernel = FusedRk4::new(GravityModel::J2, EarthModel::WGS84_EGM96);
+            match kernel.with_simd(simd) {
+                Ok(k) => assert_eq!(k.simd(), simd),
+                Err(e) => assert_eq!(e, FusedError::Unavailable(simd)),
+            }
+        }
+    }
+}
