@@ -14,6 +14,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
+mod bench;
 mod campaign;
 mod characterize;
 
@@ -43,6 +44,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run the performance suite: one JSON line per case (propagation and the guided step of each law
+    /// at N = 1e3 … 1e6, five elements on 1e5 positions; throughput, wall time, peak memory, the
+    /// engine's stage split), then a Markdown table. Each case runs in a child process.
+    Bench(BenchArgs),
     /// Run a scenario (a TOML file or a built-in name) and write summary.json, the metrics and
     /// trajectory tables (CSV or Parquet), scene.json and scenario.toml into the output directory, then
     /// draw its figures into OUT/plots/ (unless --no-plots).
@@ -224,6 +229,34 @@ enum IntegratorArg {
     Rk78,
     /// Adaptive Dormand-Prince 8(5,3) (--rtol, --atol, longest step --step-s).
     Dop853,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    #[command(subcommand)]
+    action: Option<BenchAction>,
+    /// Small N only (1000 satellites per case).
+    #[arg(long)]
+    quick: bool,
+    /// Only this case (propagation, hold-repel, bifurcating, equilibrium-shaping, pigeon,
+    /// five-elements).
+    #[arg(long)]
+    case: Option<String>,
+    /// Largest N measured, 1000 to 1000000 (default 1000000, or 1000 with --quick).
+    #[arg(long)]
+    max_n: Option<usize>,
+}
+
+#[derive(Subcommand)]
+enum BenchAction {
+    /// One case at N satellites in this process (what the suite runs in its child processes).
+    #[command(hide = true)]
+    Case {
+        /// The case's name.
+        name: String,
+        /// Number of satellites.
+        n: usize,
+    },
 }
 
 #[derive(clap::Args)]
@@ -427,6 +460,10 @@ fn main() -> ExitCode {
         Command::Export { format } => export::export_command(format),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
         Command::Campaign(args) => campaign::campaign_command(&args),
+        Command::Bench(args) => match args.action {
+            Some(BenchAction::Case { name, n }) => bench::suite::run_case(&name, n),
+            None => bench::suite::run_suite(args.quick, args.case.as_deref(), args.max_n),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,3 @@
+//! `satflock bench`: performance measurements of the engine.
+
+pub mod suite;
