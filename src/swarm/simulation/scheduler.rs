@@ -238,7 +238,14 @@ impl Simulation {
             });
         }
         if sampled || kinematic {
-            plant.commands(&self.law, &view, tick, &mut self.applied_hill);
+            // `held_control` is rewritten from `applied_hill` just below: until then it is scratch.
+            plant.commands_in_cell_order(
+                &self.law,
+                &view,
+                tick,
+                &mut self.held_control,
+                &mut self.applied_hill,
+            );
             let frame = self
                 .config
                 .dynamics
