@@ -360,6 +360,22 @@ impl NeighbourGrid {
         self.occupied
     }
 
+    /// The satellites in storage order: `cell_order()[s]` is the satellite stored in slot `s`. Storage
+    /// order is cell order (cells ascending in (z, y, x), within a cell ascending index), so satellites
+    /// next to each other here are close in space: evaluating per-satellite work in this order keeps
+    /// neighbouring satellites' data in cache. Empty before a successful build.
+    pub fn cell_order(&self) -> &[u32] {
+        &self.items
+    }
+
+    /// Storage slot of satellite `i` (its position in [`Self::cell_order`]).
+    ///
+    /// # Panics
+    /// If `i >= self.len()`.
+    pub fn slot(&self, i: usize) -> usize {
+        self.slot_of[i] as usize
+    }
+
     /// Position of satellite `i` as given to the last build (m, the caller's frame).
     ///
     /// # Panics

@@ -391,6 +391,7 @@ pub fn run_prepared(
         wall_time_s,
         satellite_steps_per_s: totals.satellite_steps as f64 / wall_time_s.max(1e-9),
         threads: rayon::current_num_threads(),
+        timing: simulation.stage_timings(),
         delta_v_mps: DeltaVSummary {
             per_satellite: ledger.iter().map(|l| l.1).collect(),
             max: live.iter().map(|&i| ledger[i].1).fold(0.0, f64::max),

@@ -4,6 +4,7 @@
 //! compare` (laws side by side on one case). The binary is
 //! `src/main.rs`; everything here uses only the public API of the `satflock` library.
 
+pub mod bench_cases;
 pub mod compare;
 pub mod plot;
 pub mod report;

@@ -44,6 +44,11 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Performance measurements, one JSON line per case. Without a subcommand, the suite: propagation and
+    /// the guided step of each law at N = 1e3 … 1e6, five elements on 1e5 positions (throughput, wall
+    /// time, peak memory, the engine's stage split), then a Markdown table; each case runs in a child
+    /// process. `satflock bench propagate`: N independent satellites through the fused RK4 kernel.
+    Bench(bench::BenchArgs),
     /// Run a scenario (a TOML file or a built-in name) and write summary.json, the metrics and
     /// trajectory tables (CSV or Parquet), scene.json and scenario.toml into the output directory, then
     /// draw its figures into OUT/plots/ (unless --no-plots).
@@ -153,11 +158,6 @@ enum Command {
         /// With a trajectory file: the recorded time nearest to this [s] (default: the last one).
         #[arg(long)]
         time_s: Option<f64>,
-    },
-    /// Performance measurements, one JSON line per case (`satflock bench propagate`).
-    Bench {
-        #[command(subcommand)]
-        case: bench::BenchCommand,
     },
     /// Propagate one orbit (no control) and write its states to CSV (and, with --oem, a CCSDS OEM).
     #[command(allow_negative_numbers = true)]
@@ -430,10 +430,10 @@ fn main() -> ExitCode {
         },
         Command::Characterize { positions, time_s } => characterize::run(&positions, time_s),
         Command::Propagate(args) => propagate_command(&args),
-        Command::Bench { case } => bench::bench_command(&case),
         Command::Export { format } => export::export_command(format),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
         Command::Campaign(args) => campaign::campaign_command(&args),
+        Command::Bench(args) => bench::bench_command(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -16,7 +16,7 @@ pub mod five_elements;
 pub mod separation;
 
 pub use five_elements::{five_elements, FiveElements, FiveElementsWorkspace};
-pub use separation::{min_separation, Separation};
+pub use separation::{min_separation, Separation, SeparationTracker};
 
 /// Why a metric could not be computed.
 #[derive(Clone, Debug, PartialEq, Error)]
@@ -68,6 +68,14 @@ pub enum MetricsError {
         index: usize,
         /// The rejected radius (m).
         radius_m: f64,
+    },
+    /// Satellite identifiers that should be strictly ascending are not.
+    #[error(
+        "satellite ids must be strictly ascending; entry {index} is not above the one before it"
+    )]
+    UnorderedIds {
+        /// Position of the first offending entry.
+        index: usize,
     },
     /// The neighbour grid rejected its input.
     #[error(transparent)]

@@ -1,8 +1,22 @@
 //! Minimum separation and hard-body collision count of a swarm, from a built
-//! [`NeighbourGrid`] (O(N) for a well-sized grid, exact at any grid radius).
+//! [`NeighbourGrid`] (O(N) for a well-sized grid, exact at any grid radius), and
+//! [`SeparationTracker`], the same exact answer for a moving swarm without a full search every step.
 //!
 //! The grid's positions are used as given to [`NeighbourGrid::build`] (m, any Cartesian frame), so the
 //! engine can reuse the grid it already built for its collision-avoidance terms.
+//!
+//! **Tracking a moving swarm exactly.** After a full search at time t_k the tracker keeps every
+//! satellite's position p_i(t_k) and nearest-neighbour distance d_i(t_k). At a later snapshot, with
+//! Δ_i = |p_i(t) − p_i(t_k)| and Δ_max the largest Δ, the triangle inequality gives for every pair
+//! d_ij(t) ≥ d_ij(t_k) − Δ_i − Δ_j ≥ d_i(t_k) − Δ_i − Δ_max =: L_i. The previous closest pair's distance
+//! now, U, is an upper bound of the minimum. A pair at the minimum has both ends with L ≤ U, and a
+//! colliding pair (d_ij < a_i + a_j ≤ a_i + a_max) both ends with L_i < a_i + a_max; so the exact minimum,
+//! its lexicographically smallest pair and the collision count are those of the *candidates* (the
+//! satellites meeting either test), searched among themselves. L is lowered by a margin of 1e-9 times
+//! the largest coordinate magnitude, a million times the rounding of the distances involved, so floating
+//! point never drops a candidate. When the candidates exceed a quarter of the swarm, or the satellite set
+//! gained a member, the tracker does a full search and takes new anchors. Satellites may leave the set
+//! between snapshots (a removed satellite): the bounds of the others stay valid.
 
 use rayon::prelude::*;
 
@@ -31,21 +45,37 @@ pub struct Separation {
 /// [`MetricsError::TooFewSatellites`] when the grid holds fewer than two satellites;
 /// [`MetricsError::LengthMismatch`] / [`MetricsError::InvalidRadius`] for bad radii.
 pub fn min_separation(grid: &NeighbourGrid, radii_m: &[f64]) -> Result<Separation, MetricsError> {
+    search(grid, radii_m, &mut Vec::new())
+}
+
+/// [`min_separation`], also writing every satellite's nearest-neighbour distance (m) into `nearest_m`
+/// (resized to the grid's length).
+fn search(
+    grid: &NeighbourGrid,
+    radii_m: &[f64],
+    nearest_m: &mut Vec<f64>,
+) -> Result<Separation, MetricsError> {
     let n = grid.len();
     if n < 2 {
         return Err(MetricsError::TooFewSatellites { n });
     }
     let a_max = check_radii(radii_m, n)?;
-    let (min_distance_m, closest_pair) = (0..n)
-        .into_par_iter()
-        .filter_map(|i| {
-            grid.nearest_neighbour(i)
-                .map(|nb| (nb.distance_m, (i.min(nb.index), i.max(nb.index))))
+    nearest_m.resize(n, 0.0);
+    let (min_distance_m, closest_pair) = nearest_m
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(256)
+        .filter_map(|(i, nearest)| {
+            grid.nearest_neighbour(i).map(|nb| {
+                *nearest = nb.distance_m;
+                (nb.distance_m, (i.min(nb.index), i.max(nb.index)))
+            })
         })
         .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
         .expect("a grid with two or more satellites has a nearest neighbour");
     let collisions = (0..n)
         .into_par_iter()
+        .with_min_len(256)
         .map(|i| {
             let mut count = 0;
             // A partner j can only collide when d < a_i + a_j <= a_i + a_max.
@@ -62,4 +92,504 @@ pub fn min_separation(grid: &NeighbourGrid, radii_m: &[f64]) -> Result<Separatio
         closest_pair,
         collisions,
     })
+}
+
+/// A grid cell edge (m) that suits an exact nearest-neighbour search over these positions: the swarm's
+/// mean spacing (cube root of bounding-box volume per satellite, flat swarms padded to a slab). `None`
+/// when every position is the same point or a coordinate is not finite (or the slices are empty).
+fn spacing_cell_m(x_m: &[f64], y_m: &[f64], z_m: &[f64]) -> Option<f64> {
+    let count = x_m.len().min(y_m.len()).min(z_m.len());
+    if count == 0 {
+        return None;
+    }
+    let mut low = [f64::INFINITY; 3];
+    let mut high = [f64::NEG_INFINITY; 3];
+    for i in 0..count {
+        for (a, v) in [x_m[i], y_m[i], z_m[i]].into_iter().enumerate() {
+            low[a] = low[a].min(v);
+            high[a] = high[a].max(v);
+        }
+    }
+    let extent = [high[0] - low[0], high[1] - low[1], high[2] - low[2]];
+    let largest = extent[0].max(extent[1]).max(extent[2]);
+    if !(largest.is_finite() && largest > 0.0) {
+        return None;
+    }
+    let floor = largest / (count as f64).cbrt();
+    let volume: f64 = extent.iter().map(|e| e.max(floor)).product();
+    let cell_m = (volume / count as f64).cbrt();
+    cell_m.is_finite().then_some(cell_m)
+}
+
+/// Above this many candidates a narrow search compares all pairs directly instead of building a grid.
+const DIRECT_PAIRS_UP_TO: usize = 48;
+
+/// Exact minimum separation, closest pair and collision count of a moving swarm over successive
+/// snapshots, with a full nearest-neighbour search only when the motion since the last one requires it
+/// (see the module docs for the bound and why the answer is exact). Buffers are kept across calls.
+#[derive(Clone, Debug, Default)]
+pub struct SeparationTracker {
+    /// Per satellite id: position (m) at the last full search and its nearest-neighbour distance then
+    /// (m); a NaN distance marks an id that was not in that search.
+    anchors: Vec<[f64; 4]>,
+    /// Ids of the last answer's closest pair.
+    closest: Option<(usize, usize)>,
+    grid: NeighbourGrid,
+    nearest_m: Vec<f64>,
+    /// Per satellite of the current snapshot: displacement since its anchor (m).
+    displacement_m: Vec<f64>,
+    /// Candidates of a narrow search: their index in the snapshot, positions and radii.
+    candidates: Vec<usize>,
+    candidate_x: Vec<f64>,
+    candidate_y: Vec<f64>,
+    candidate_z: Vec<f64>,
+    candidate_radii: Vec<f64>,
+    full_searches: u64,
+    narrow_searches: u64,
+}
+
+impl SeparationTracker {
+    /// An empty tracker (its first update is a full search).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Full searches done so far (the first update, and whenever the bound let too many through).
+    pub fn full_searches(&self) -> u64 {
+        self.full_searches
+    }
+
+    /// Updates answered by a search among the candidates only.
+    pub fn narrow_searches(&self) -> u64 {
+        self.narrow_searches
+    }
+
+    /// The separation of the satellites `ids` (strictly ascending satellite identifiers, e.g. the live
+    /// satellites' indices) at positions `x_m`, `y_m`, `z_m` (m, one Cartesian frame kept across calls)
+    /// with hard-body radii `radii_m` (m, finite and >= 0). Equal to [`min_separation`] over the same
+    /// satellites, with [`Separation::closest_pair`] given as ids.
+    ///
+    /// # Errors
+    /// [`MetricsError::TooFewSatellites`] with fewer than two satellites; [`MetricsError::LengthMismatch`]
+    /// when the slices differ in length; [`MetricsError::UnorderedIds`] when `ids` is not strictly
+    /// ascending; [`MetricsError::InvalidRadius`]; [`MetricsError::Grid`] for a non-finite position. After
+    /// an error the next update is a full search.
+    pub fn update(
+        &mut self,
+        ids: &[usize],
+        x_m: &[f64],
+        y_m: &[f64],
+        z_m: &[f64],
+        radii_m: &[f64],
+    ) -> Result<Separation, MetricsError> {
+        let n = ids.len();
+        let result = self.checked_update(ids, x_m, y_m, z_m, radii_m, n);
+        if result.is_err() {
+            self.closest = None;
+        }
+        result
+    }
+
+    fn checked_update(
+        &mut self,
+        ids: &[usize],
+        x_m: &[f64],
+        y_m: &[f64],
+        z_m: &[f64],
+        radii_m: &[f64],
+        n: usize,
+    ) -> Result<Separation, MetricsError> {
+        if n < 2 {
+            return Err(MetricsError::TooFewSatellites { n });
+        }
+        for (what, got) in [("x", x_m.len()), ("y", y_m.len()), ("z", z_m.len())] {
+            if got != n {
+                return Err(MetricsError::LengthMismatch {
+                    what,
+                    expected: n,
+                    got,
+                });
+            }
+        }
+        if let Some(index) = (1..n).find(|&k| ids[k] <= ids[k - 1]) {
+            return Err(MetricsError::UnorderedIds { index });
+        }
+        let a_max = check_radii(radii_m, n)?;
+        let separation = match self.narrow(ids, x_m, y_m, z_m, radii_m, a_max)? {
+            Some(separation) => {
+                self.narrow_searches += 1;
+                separation
+            }
+            None => {
+                self.full_searches += 1;
+                self.full(ids, x_m, y_m, z_m, radii_m)?
+            }
+        };
+        self.closest = Some(separation.closest_pair);
+        Ok(separation)
+    }
+
+    /// A full search over every satellite; takes new anchors.
+    fn full(
+        &mut self,
+        ids: &[usize],
+        x_m: &[f64],
+        y_m: &[f64],
+        z_m: &[f64],
+        radii_m: &[f64],
+    ) -> Result<Separation, MetricsError> {
+        for anchor in &mut self.anchors {
+            anchor[3] = f64::NAN;
+        }
+        let Some(cell_m) = spacing_cell_m(x_m, y_m, z_m) else {
+            // Every satellite at one point (a non-finite coordinate is refused by the grid below).
+            if let Some(index) = (0..ids.len())
+                .find(|&k| !(x_m[k].is_finite() && y_m[k].is_finite() && z_m[k].is_finite()))
+            {
+                return Err(MetricsError::NonFinite {
+                    what: "position",
+                    index,
+                });
+            }
+            return Ok(coincident(ids, radii_m));
+        };
+        self.grid.build(x_m, y_m, z_m, cell_m)?;
+        let separation = search(&self.grid, radii_m, &mut self.nearest_m)?;
+        let top = ids[ids.len() - 1] + 1;
+        if self.anchors.len() < top {
+            self.anchors.resize(top, [0.0, 0.0, 0.0, f64::NAN]);
+        }
+        for (k, &id) in ids.iter().enumerate() {
+            self.anchors[id] = [x_m[k], y_m[k], z_m[k], self.nearest_m[k]];
+        }
+        let (a, b) = separation.closest_pair;
+        Ok(Separation {
+            closest_pair: (ids[a], ids[b]),
+            ..separation
+        })
+    }
+
+    /// The search among the candidates, or `None` when the bound cannot be used (no previous answer, a
+    /// satellite without an anchor, too many candidates).
+    fn narrow(
+        &mut self,
+        ids: &[usize],
+        x_m: &[f64],
+        y_m: &[f64],
+        z_m: &[f64],
+        radii_m: &[f64],
+        a_max: f64,
+    ) -> Result<Option<Separation>, MetricsError> {
+        let Some((a, b)) = self.closest else {
+            return Ok(None);
+        };
+        let (Ok(ia), Ok(ib)) = (ids.binary_search(&a), ids.binary_search(&b)) else {
+            return Ok(None);
+        };
+        let (dx, dy, dz) = (x_m[ib] - x_m[ia], y_m[ib] - y_m[ia], z_m[ib] - z_m[ia]);
+        let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
+        let n = ids.len();
+        self.displacement_m.resize(n, 0.0);
+        let mut largest_m = 0.0_f64;
+        let mut scale_m = 0.0_f64;
+        for (k, &id) in ids.iter().enumerate() {
+            let Some(anchor) = self.anchors.get(id).filter(|a| !a[3].is_nan()) else {
+                return Ok(None);
+            };
+            let p = [x_m[k], y_m[k], z_m[k]];
+            let (ex, ey, ez) = (p[0] - anchor[0], p[1] - anchor[1], p[2] - anchor[2]);
+            let moved_m = (ex * ex + ey * ey + ez * ez).sqrt();
+            if !moved_m.is_finite() {
+                // A non-finite position: the full search reports it.
+                return Ok(None);
+            }
+            self.displacement_m[k] = moved_m;
+            largest_m = largest_m.max(moved_m);
+            for v in [p[0], p[1], p[2], anchor[0], anchor[1], anchor[2]] {
+                scale_m = scale_m.max(v.abs());
+            }
+        }
+        if !(upper_m.is_finite() && scale_m.is_finite()) {
+            return Ok(None);
+        }
+        let margin_m = 1e-9 * scale_m;
+        self.candidates.clear();
+        for (k, &id) in ids.iter().enumerate() {
+            let lower_m = self.anchors[id][3] - self.displacement_m[k] - largest_m - margin_m;
+            if lower_m <= upper_m || lower_m < radii_m[k] + a_max {
+                self.candidates.push(k);
+                if self.candidates.len() > n / 4 {
+                    return Ok(None);
+                }
+            }
+        }
+        let m = self.candidates.len();
+        self.candidate_x.clear();
+        self.candidate_y.clear();
+        self.candidate_z.clear();
+        self.candidate_radii.clear();
+        for &k in &self.candidates {
+            self.candidate_x.push(x_m[k]);
+            self.candidate_y.push(y_m[k]);
+            self.candidate_z.push(z_m[k]);
+            self.candidate_radii.push(radii_m[k]);
+        }
+        let (cx, cy, cz) = (&self.candidate_x, &self.candidate_y, &self.candidate_z);
+        let separation = match spacing_cell_m(cx, cy, cz).filter(|_| m > DIRECT_PAIRS_UP_TO) {
+            Some(cell_m) => {
+                self.grid.build(cx, cy, cz, cell_m)?;
+                search(&self.grid, &self.candidate_radii, &mut self.nearest_m)?
+            }
+            None => direct(cx, cy, cz, &self.candidate_radii),
+        };
+        let (p, q) = separation.closest_pair;
+        Ok(Some(Separation {
+            closest_pair: (ids[self.candidates[p]], ids[self.candidates[q]]),
+            ..separation
+        }))
+    }
+}
+
+/// Every pair compared directly (a few candidates): the same distances, pair and count as a search
+/// through the grid. At least two positions.
+fn direct(x_m: &[f64], y_m: &[f64], z_m: &[f64], radii_m: &[f64]) -> Separation {
+    let mut min_distance_m = f64::INFINITY;
+    let mut closest_pair = (0, 1);
+    let mut collisions = 0;
+    for i in 0..x_m.len() {
+        for j in i + 1..x_m.len() {
+            let (dx, dy, dz) = (x_m[j] - x_m[i], y_m[j] - y_m[i], z_m[j] - z_m[i]);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            // Pairs come in lexicographic order, so the first at the minimum is the smallest.
+            if d < min_distance_m {
+                min_distance_m = d;
+                closest_pair = (i, j);
+            }
+            if d < radii_m[i] + radii_m[j] {
+                collisions += 1;
+            }
+        }
+    }
+    Separation {
+        min_distance_m,
+        closest_pair,
+        collisions,
+    }
+}
+
+/// Every satellite at one point: distance 0, the first two ids, and every pair whose radii are not both
+/// zero collides.
+fn coincident(ids: &[usize], radii_m: &[f64]) -> Separation {
+    let n = ids.len();
+    let zero = radii_m.iter().filter(|r| **r == 0.0).count();
+    Separation {
+        min_distance_m: 0.0,
+        closest_pair: (ids[0], ids[1]),
+        collisions: n * (n - 1) / 2 - zero * zero.saturating_sub(1) / 2,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::rngs::ChaCha8Rng;
+    use rand::{RngExt, SeedableRng};
+
+    /// All pairs in id order: the minimum distance, its lexicographically smallest pair (ids) and the
+    /// colliding pairs.
+    fn brute_force(ids: &[usize], p: &[[f64; 3]], radii: &[f64]) -> Separation {
+        let mut best = (f64::INFINITY, (0, 0));
+        let mut collisions = 0;
+        for i in 0..p.len() {
+            for j in i + 1..p.len() {
+                let d = ((p[j][0] - p[i][0]).powi(2)
+                    + (p[j][1] - p[i][1]).powi(2)
+                    + (p[j][2] - p[i][2]).powi(2))
+                .sqrt();
+                if d < best.0 {
+                    best = (d, (ids[i], ids[j]));
+                }
+                if d < radii[i] + radii[j] {
+                    collisions += 1;
+                }
+            }
+        }
+        Separation {
+            min_distance_m: best.0,
+            closest_pair: best.1,
+            collisions,
+        }
+    }
+
+    /// How a test swarm is laid out and moves.
+    #[derive(Clone, Copy, Debug)]
+    enum Motion {
+        /// Uniform in a box, random constant velocities.
+        Random,
+        /// Tight clusters of a few satellites, each cluster drifting and its members jittering.
+        Clustered,
+        /// Pairs on head-on courses that pass through each other (collisions come and go).
+        Colliding,
+        /// An integer lattice (every ninth satellite 1 m closer to its neighbour) translated by 1/8 m a
+        /// step: exact distance ties everywhere.
+        Lattice,
+    }
+
+    /// Runs `steps` snapshots of a moving swarm through one tracker and checks every answer against
+    /// the brute force; removes a few satellites (and brings some back) mid-run when `removals`.
+    /// Returns (full, narrow) search counts.
+    fn check_motion(
+        motion: Motion,
+        n: usize,
+        steps: usize,
+        removals: bool,
+        seed: u64,
+    ) -> (u64, u64) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut position: Vec<[f64; 3]> = Vec::with_capacity(n);
+        let mut velocity: Vec<[f64; 3]> = Vec::with_capacity(n);
+        let mut unit = || -> f64 { rng.random_range(-1.0..1.0) };
+        for i in 0..n {
+            let (p, v) = match motion {
+                Motion::Random => (
+                    [100.0 * unit(), 100.0 * unit(), 100.0 * unit()],
+                    [0.3 * unit(), 0.3 * unit(), 0.3 * unit()],
+                ),
+                Motion::Clustered => {
+                    let c = (i / 4) as f64;
+                    (
+                        [c * 10.0 + unit(), (c * 7.0) % 30.0 + unit(), unit()],
+                        [0.05 * unit(), 0.05 * unit(), 0.05 * unit()],
+                    )
+                }
+                Motion::Colliding => {
+                    let k = (i / 2) as f64;
+                    let side = if i % 2 == 0 { -1.0 } else { 1.0 };
+                    (
+                        [5.0 * k, side * (2.0 + unit()), 0.2 * unit()],
+                        [0.0, -side * 0.05 * (1.0 + 0.5 * unit()), 0.0],
+                    )
+                }
+                Motion::Lattice => (
+                    [
+                        (i % 7) as f64 * 3.0 + if i % 9 == 0 { 1.0 } else { 0.0 },
+                        ((i / 7) % 7) as f64 * 3.0,
+                        (i / 49) as f64 * 3.0,
+                    ],
+                    [0.125, 0.0, 0.0],
+                ),
+            };
+            position.push(p);
+            velocity.push(v);
+        }
+        let radii: Vec<f64> = (0..n)
+            .map(|i| {
+                if i % 5 == 0 {
+                    0.0
+                } else {
+                    0.1 + 0.4 * unit().abs()
+                }
+            })
+            .collect();
+        let mut live = vec![true; n];
+        let mut tracker = SeparationTracker::new();
+        for step in 0..steps {
+            if removals && step > 0 && step % 7 == 0 {
+                let k = rng.random_range(0..n);
+                live[k] = !live[k];
+                // Also remove the last answer's closest pair now and then.
+                if step % 14 == 0 {
+                    if let Some((a, _)) = tracker.closest {
+                        live[a] = false;
+                    }
+                }
+            }
+            let ids: Vec<usize> = (0..n).filter(|&i| live[i]).collect();
+            let p: Vec<[f64; 3]> = ids.iter().map(|&i| position[i]).collect();
+            let r: Vec<f64> = ids.iter().map(|&i| radii[i]).collect();
+            let (x, y, z): (Vec<f64>, Vec<f64>, Vec<f64>) = (
+                p.iter().map(|q| q[0]).collect(),
+                p.iter().map(|q| q[1]).collect(),
+                p.iter().map(|q| q[2]).collect(),
+            );
+            let got = tracker.update(&ids, &x, &y, &z, &r).unwrap();
+            let want = brute_force(&ids, &p, &r);
+            assert_eq!(got, want, "{motion:?} n = {n} step {step}");
+            assert_eq!(got.min_distance_m.to_bits(), want.min_distance_m.to_bits());
+            for i in 0..n {
+                let jitter = match motion {
+                    Motion::Clustered => 0.02,
+                    _ => 0.0,
+                };
+                for a in 0..3 {
+                    position[i][a] += velocity[i][a] + jitter * rng.random_range(-1.0..1.0);
+                }
+            }
+        }
+        (tracker.full_searches(), tracker.narrow_searches())
+    }
+
+    /// The tracker equals the O(N²) brute force (distance bit for bit, pair, collision count) at every
+    /// step of moving swarms, and the narrow search is what answers most steps.
+    #[test]
+    fn tracker_equals_brute_force_on_moving_swarms() {
+        for (motion, n) in [
+            (Motion::Random, 300),
+            (Motion::Clustered, 200),
+            (Motion::Colliding, 120),
+            (Motion::Lattice, 150),
+        ] {
+            for removals in [false, true] {
+                let (full, narrow) = check_motion(motion, n, 60, removals, 11 + n as u64);
+                assert!(full >= 1, "{motion:?}");
+                assert!(
+                    narrow >= 10,
+                    "{motion:?} removals {removals}: {full} full, {narrow} narrow"
+                );
+            }
+        }
+    }
+
+    /// Many candidates (more than the direct-comparison limit) go through the candidates' own grid.
+    #[test]
+    fn tracker_equals_brute_force_with_many_candidates() {
+        let (full, narrow) = check_motion(Motion::Colliding, 1000, 25, true, 5);
+        assert!(full >= 1 && narrow >= 5, "{full} full, {narrow} narrow");
+    }
+
+    /// The tracker's full search is the reference [`min_separation`] (ids mapped), and coincident or
+    /// non-finite swarms, unordered ids and too few satellites are handled without panicking.
+    #[test]
+    fn tracker_edge_cases() {
+        let mut tracker = SeparationTracker::new();
+        let ids = [2, 5, 9];
+        let sep = tracker
+            .update(&ids, &[0.0; 3], &[1.0; 3], &[2.0; 3], &[0.0, 0.0, 0.5])
+            .unwrap();
+        assert_eq!(sep.min_distance_m, 0.0);
+        assert_eq!(sep.closest_pair, (2, 5));
+        assert_eq!(sep.collisions, 2);
+        assert!(matches!(
+            tracker.update(&[3, 1], &[0.0, 1.0], &[0.0; 2], &[0.0; 2], &[0.0; 2]),
+            Err(MetricsError::UnorderedIds { index: 1 })
+        ));
+        assert!(matches!(
+            tracker.update(&[1], &[0.0], &[0.0], &[0.0], &[0.0]),
+            Err(MetricsError::TooFewSatellites { n: 1 })
+        ));
+        assert!(tracker
+            .update(&[0, 1], &[0.0, f64::NAN], &[0.0; 2], &[0.0; 2], &[0.0; 2])
+            .is_err());
+        let (x, y, z) = ([0.0, 3.0, 7.0], [0.0, 0.0, 1.0], [0.0; 3]);
+        let mut grid = NeighbourGrid::new();
+        grid.build(&x, &y, &z, 2.0).unwrap();
+        let reference = min_separation(&grid, &[1.0, 2.5, 0.0]).unwrap();
+        let tracked = tracker
+            .update(&[4, 6, 8], &x, &y, &z, &[1.0, 2.5, 0.0])
+            .unwrap();
+        assert_eq!(tracked.min_distance_m, reference.min_distance_m);
+        assert_eq!(tracked.collisions, reference.collisions);
+        assert_eq!(tracked.closest_pair, (4, 6));
+        assert_eq!(reference.closest_pair, (0, 1));
+    }
 }

@@ -25,8 +25,9 @@ use super::run_data::RunDataError;
 /// Longest array of numbers kept as components (longer arrays are per-satellite values).
 pub const MAX_VECTOR_LEN: usize = 6;
 
-/// Keys of a summary that are not outcomes.
-const NOT_OUTCOMES: &[&str] = &["metadata", "seed", "threads"];
+/// Keys of a summary that are not outcomes (`timing`, the engine's stage split, measures the machine and
+/// differs between any two executions of one run).
+const NOT_OUTCOMES: &[&str] = &["metadata", "seed", "threads", "timing"];
 
 /// Every scalar outcome of a `summary.json`, by dotted name, sorted by name.
 pub fn scalar_outcomes(summary: &serde_json::Value) -> Vec<(String, f64)> {
@@ -232,6 +233,7 @@ mod tests {
     fn flattens_numbers_vectors_and_objects_and_leaves_out_the_rest() {
         let summary = serde_json::json!({
             "scenario": "x", "seed": 3, "status": "completed", "wall_time_s": 1.5,
+            "timing": {"sensing_s": 0.5, "law_s": 0.25},
             "delta_v_mps": {"per_satellite": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0], "max": 7.0,
                             "mean_per_axis_hill": [0.1, 0.2, 0.3]},
             "final": {"five_elements": null},

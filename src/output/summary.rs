@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use crate::environment::{Approach, ApproachMonitor, Clearance, PairMinimum};
 use crate::metrics::FiveElements;
+use crate::swarm::StageTimings;
 
 /// How the run ended.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
@@ -105,6 +106,8 @@ pub struct RunSummary {
     pub satellite_steps_per_s: f64,
     /// Threads used.
     pub threads: usize,
+    /// Wall-clock time per stage of the engine \[s\] (measures the machine, like `wall_time_s`).
+    pub timing: StageTimings,
     /// Delta-v statistics.
     pub delta_v_mps: DeltaVSummary,
     /// Smallest separation between two live satellites seen at any step \[m\].

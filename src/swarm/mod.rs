@@ -23,6 +23,6 @@ pub use law::{
 pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{
     check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
-    Simulation, SimulationConfig,
+    Simulation, SimulationConfig, StageTimings,
 };
 pub use state::SwarmState;

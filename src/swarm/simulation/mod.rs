@@ -65,6 +65,30 @@ enum Integration {
     Sampled(SampledBuffers),
 }
 
+/// Cumulative wall-clock time per stage of the engine since the simulation was built \[s\]: what
+/// [`Simulation::stage_timings`] returns and `summary.json` writes as `timing`. Measured with one
+/// `Instant` pair per stage per segment; it measures the machine, so it never enters campaign outcomes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct StageTimings {
+    /// Truth relative states after each segment, navigation states and the sensing grid \[s\].
+    pub sensing_s: f64,
+    /// Law: centralised step, state updates, commands through the actuators, held commands \[s\].
+    pub law_s: f64,
+    /// Integration of the reference orbit and every satellite over the segments \[s\].
+    pub propagation_s: f64,
+    /// Truth monitors: divergence, minimum separation and collisions, threat and obstacle approach \[s\].
+    pub monitors_s: f64,
+    /// Snapshots handed to the recorder (metrics, five elements, law metrics and outputs) \[s\].
+    pub recording_s: f64,
+}
+
+impl StageTimings {
+    /// The sum of the stages \[s\].
+    pub fn total_s(&self) -> f64 {
+        self.sensing_s + self.law_s + self.propagation_s + self.monitors_s + self.recording_s
+    }
+}
+
 /// A swarm simulation: state, satellites, law, environment, events, and the loop that advances them.
 pub struct Simulation {
     config: SimulationConfig,
@@ -104,6 +128,7 @@ pub struct Simulation {
     /// A flag another thread (a signal handler) may set to stop the run between segments.
     cancel: Option<Arc<AtomicBool>>,
     totals: RunTotals,
+    timings: StageTimings,
     approach: ApproachMonitor,
     /// SS model of the reference orbit at t = 0, given to laws ([`crate::swarm::SharedInfo::reference_model`]).
     reference_model: SchweighartSedwick,
@@ -242,6 +267,7 @@ impl Simulation {
                 collision_pair_samples: 0,
                 final_five_elements: None,
             },
+            timings: StageTimings::default(),
             approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
             reference_model,
             config,
@@ -314,6 +340,11 @@ impl Simulation {
     /// Totals so far.
     pub fn totals(&self) -> &RunTotals {
         &self.totals
+    }
+
+    /// Wall-clock time spent in each stage of the engine so far.
+    pub fn stage_timings(&self) -> StageTimings {
+        self.timings
     }
 
     /// Recomputes the truth relative states at the current time.

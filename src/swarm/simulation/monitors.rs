@@ -3,32 +3,31 @@
 //! count, and the continuous closest approach to every threat and clearance of every obstacle (from each
 //! satellite's cubic Hermite path over the segment, so a minimum between two steps is not missed).
 
-use nalgebra::Vector3;
-
 use crate::environment::HermiteSegment;
-use crate::grid::NeighbourGrid;
-use crate::metrics::{min_separation, FiveElementsWorkspace};
+use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
 use crate::orbit::RelativeStateHill;
 use crate::swarm::simulation::{Divergence, SimError, Simulation};
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
 pub(super) struct LiveMetrics {
+    ids: Vec<usize>,
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
     radii_m: Vec<f64>,
-    grid: NeighbourGrid,
+    tracker: SeparationTracker,
     pub workspace: FiveElementsWorkspace,
 }
 
 impl LiveMetrics {
     pub fn new(n: usize) -> Self {
         Self {
+            ids: Vec::with_capacity(n),
             x: Vec::with_capacity(n),
             y: Vec::with_capacity(n),
             z: Vec::with_capacity(n),
             radii_m: Vec::with_capacity(n),
-            grid: NeighbourGrid::new(),
+            tracker: SeparationTracker::new(),
             workspace: FiveElementsWorkspace::new(),
         }
     }
@@ -105,56 +104,37 @@ impl Simulation {
 }
 
 /// Minimum separation between live satellites \[m\] and the count of pairs closer than the sum of their
-/// radii, from relative positions (infinite and 0 with fewer than two live satellites). The search is
-/// exact at any distance; the grid's cell size only sets its speed, so it is taken from the swarm's own
-/// mean spacing (cube root of bounding-box volume per satellite, flat swarms padded to a slab).
+/// radii, from relative positions (infinite and 0 with fewer than two live satellites; NaN and 0 for a
+/// non-finite position, which the divergence check reports). Exact at any distance at every call: the
+/// tracker searches fully only when the motion since its last full search could have made a new pair
+/// closest or colliding ([`SeparationTracker`]).
 pub(super) fn live_separation(
     relative: &[RelativeStateHill],
     active: &[bool],
     radii_m: &[f64],
     live: &mut LiveMetrics,
 ) -> (f64, usize) {
+    live.ids.clear();
     live.x.clear();
     live.y.clear();
     live.z.clear();
     live.radii_m.clear();
-    let mut low = Vector3::repeat(f64::INFINITY);
-    let mut high = Vector3::repeat(f64::NEG_INFINITY);
     for (i, rel) in relative.iter().enumerate() {
         if active[i] {
             let p = rel.position_m;
+            live.ids.push(i);
             live.x.push(p.x);
             live.y.push(p.y);
             live.z.push(p.z);
             live.radii_m.push(radii_m[i]);
-            low = low.inf(&p);
-            high = high.sup(&p);
         }
     }
-    let count = live.x.len();
-    if count < 2 {
-        return (f64::INFINITY, 0);
-    }
-    let extent = high - low;
-    let largest = extent.max();
-    if largest == 0.0 {
-        // Every live satellite at the same point.
-        let collisions = if live.radii_m.iter().any(|r| *r > 0.0) {
-            count * (count - 1) / 2
-        } else {
-            0
-        };
-        return (0.0, collisions);
-    }
-    let floor = largest / (count as f64).cbrt();
-    let volume: f64 = extent.iter().map(|e| e.max(floor)).product();
-    let cell_m = (volume / count as f64).cbrt();
-    // A non-finite position makes the cell size or the build fail; the divergence check reports it.
-    if !cell_m.is_finite() || live.grid.build(&live.x, &live.y, &live.z, cell_m).is_err() {
-        return (f64::NAN, 0);
-    }
-    match min_separation(&live.grid, &live.radii_m) {
+    match live
+        .tracker
+        .update(&live.ids, &live.x, &live.y, &live.z, &live.radii_m)
+    {
         Ok(sep) => (sep.min_distance_m, sep.collisions),
-        Err(_) => (f64::INFINITY, 0),
+        Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
+        Err(_) => (f64::NAN, 0),
     }
 }

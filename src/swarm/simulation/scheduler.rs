@@ -5,6 +5,7 @@
 //! events apply and the recorder gets a snapshot if it is a recording time.
 
 use std::sync::atomic::Ordering;
+use std::time::Instant;
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
@@ -55,7 +56,9 @@ impl Simulation {
         if !self.started {
             self.started = true;
             if let Some(recorder) = recorder.as_deref_mut() {
+                let clock = Instant::now();
                 self.record(recorder)?;
+                self.timings.recording_s += clock.elapsed().as_secs_f64();
             }
         }
         while self.time_s < end - eps {
@@ -75,12 +78,16 @@ impl Simulation {
             if (t1 - next_step).abs() <= eps {
                 self.step_count += 1;
             }
+            let clock = Instant::now();
             self.monitor(t0)?;
+            self.timings.monitors_s += clock.elapsed().as_secs_f64();
             self.apply_due_events()?;
             if (t1 - next_record).abs() <= eps {
                 self.record_count += 1;
                 if let Some(recorder) = recorder.as_deref_mut() {
+                    let clock = Instant::now();
                     self.record(recorder)?;
+                    self.timings.recording_s += clock.elapsed().as_secs_f64();
                 }
             }
             progress(self.time_s);
@@ -119,6 +126,7 @@ impl Simulation {
         if at_tick {
             self.start_tick(t0)?;
         }
+        let clock = Instant::now();
         self.truth_previous.copy_from_slice(&self.truth);
         let n = self.state.n();
         let plant = Plant::new(
@@ -176,7 +184,13 @@ impl Simulation {
         if matches!(self.config.dynamics, DynamicsModel::Kinematic) {
             self.set_kinematic_velocities(t1);
         }
+        let clock = {
+            let now = Instant::now();
+            self.timings.propagation_s += (now - clock).as_secs_f64();
+            now
+        };
         self.refresh_truth();
+        self.timings.sensing_s += clock.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -184,7 +198,9 @@ impl Simulation {
     /// update on the navigation view, and in sampled mode the command held until the next tick.
     fn start_tick(&mut self, t0: f64) -> Result<(), SimError> {
         if self.law.centralised_due(t0) {
+            let clock = Instant::now();
             self.with_truth_view(|law, view| law.centralised_update(view))?;
+            self.timings.law_s += clock.elapsed().as_secs_f64();
         }
         let tick = self.tick;
         self.tick += 1;
@@ -204,19 +220,32 @@ impl Simulation {
         if !(sampled || stateful || kinematic) {
             return Ok(());
         }
+        let clock = Instant::now();
         let view = plant.view(
             t0,
             &self.truth,
             noise_if_any(&self.config, &self.navigation_noise),
             &mut self.sensed,
         );
+        let clock = {
+            let now = Instant::now();
+            self.timings.sensing_s += (now - clock).as_secs_f64();
+            now
+        };
         if stateful {
             self.law.update_states(&view, &self.fleet.active, &|i| {
                 plant.context(i, t0, tick, false)
             });
         }
         if sampled || kinematic {
-            plant.commands(&self.law, &view, tick, &mut self.applied_hill);
+            // `held_control` is rewritten from `applied_hill` just below: until then it is scratch.
+            plant.commands_in_cell_order(
+                &self.law,
+                &view,
+                tick,
+                &mut self.held_control,
+                &mut self.applied_hill,
+            );
             let frame = self
                 .config
                 .dynamics
@@ -224,6 +253,7 @@ impl Simulation {
                 .then(|| plant.frame(self.state.as_slice()));
             self.hold_commands(frame);
         }
+        self.timings.law_s += clock.elapsed().as_secs_f64();
         if kinematic {
             // The velocity state is the command from the start of the segment, so the monitors'
             // Hermite path over the segment starts with the velocity actually followed.
