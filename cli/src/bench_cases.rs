@@ -130,7 +130,7 @@ pub fn simulation(name: &str, n: usize) -> Result<Simulation> {
             n,
             0.1,
             150.0,
-            "mass_kg = 10.0\nradius_m = 0.5\nmax_accel_mps2 = 5.0\naccel_limit = \"per-axis\"",
+            "mass_kg = 10.0\nradius_m = 0.05\nmax_accel_mps2 = 5.0\naccel_limit = \"per-axis\"",
             "name = \"pigeon\"\nswitching = true\negalitarian_range_m = 120.0\n\
              hierarchical_range_m = 150.0",
         ),
