@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use satflock::campaign::overrides::{self, KeyPath, Segment};
-use satflock::scenario::{builtin, Scenario, ScenarioError, ScenarioFile};
+use satflock::scenario::{builtin, Scenario, ScenarioError};
 
 use crate::convert::{dict_to_table, py_to_toml, table_to_py, toml_to_py};
 use crate::errors::scenario_error;
@@ -26,19 +26,7 @@ pub struct PyScenario {
 impl PyScenario {
     /// The library's scenario, typed and checked for unknown keys and types (not yet for ranges).
     pub fn scenario(&self) -> Result<Scenario, ScenarioError> {
-        let file: ScenarioFile =
-            toml::Value::Table(self.table.clone())
-                .try_into()
-                .map_err(|e: toml::de::Error| ScenarioError::Parse {
-                    file: self.source.clone(),
-                    message: e.message().trim_end().to_string(),
-                })?;
-        Ok(Scenario {
-            file,
-            source: self.source.clone(),
-            base_dir: self.base_dir.clone(),
-            controller: None,
-        })
+        Scenario::from_table(self.table.clone(), &self.source, &self.base_dir)
     }
 
     /// Parses TOML text, checking it the way `satflock run` does (line-precise messages).

@@ -31,7 +31,7 @@ use sha2::{Digest, Sha256};
 use super::overrides::{self, KeyPath};
 use super::sampling::{self, Method, Range, Scale};
 use super::CampaignError;
-use crate::scenario::{builtin, Scenario, ScenarioError, ScenarioFile};
+use crate::scenario::{builtin, Scenario, ScenarioError};
 
 /// Most runs one campaign holds (parameter points × seeds).
 pub const MAX_RUNS: usize = 1_000_000;
@@ -622,19 +622,7 @@ fn base_scenario(name: &str, base_dir: &Path) -> Result<BaseScenario, String> {
 
 /// Reads a scenario table into a [`Scenario`] (types and keys; not the ranges).
 fn read_scenario(base: &BaseScenario, table: toml::Table) -> Result<Scenario, ScenarioError> {
-    let file: ScenarioFile =
-        toml::Value::Table(table)
-            .try_into()
-            .map_err(|e: toml::de::Error| ScenarioError::Parse {
-                file: base.source.clone(),
-                message: e.message().trim_end().to_string(),
-            })?;
-    Ok(Scenario {
-        file,
-        source: base.source.clone(),
-        base_dir: base.base_dir.clone(),
-        controller: None,
-    })
+    Scenario::from_table(table, &base.source, &base.base_dir)
 }
 
 /// Reads and fully validates a scenario table.

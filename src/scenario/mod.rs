@@ -175,6 +175,29 @@ impl Scenario {
         })
     }
 
+    /// A scenario from its TOML table (as edited by dotted-key overrides): keys and types are checked, not
+    /// yet the ranges ([`Scenario::prepare`] does). `source` names it in errors; `base_dir` resolves
+    /// relative paths.
+    pub fn from_table(
+        table: toml::Table,
+        source: &str,
+        base_dir: &Path,
+    ) -> Result<Self, ScenarioError> {
+        let file: ScenarioFile =
+            toml::Value::Table(table)
+                .try_into()
+                .map_err(|e: toml::de::Error| ScenarioError::Parse {
+                    file: source.to_string(),
+                    message: e.message().trim_end().to_string(),
+                })?;
+        Ok(Self {
+            file,
+            source: source.to_string(),
+            base_dir: base_dir.to_path_buf(),
+            controller: None,
+        })
+    }
+
     /// Loads a scenario file from a path.
     pub fn from_path(path: &Path) -> Result<Self, ScenarioError> {
         let source = path.display().to_string();

@@ -1,0 +1,61 @@
+"""satflock.Scenario: loading, dict and TOML round trips, dotted-key access, and errors that name the
+file, the key and the allowed range (the same messages as `satflock run`)."""
+
+import numpy as np
+import pytest
+
+import satflock
+
+
+def test_load_builtin_and_read_by_dotted_key():
+    s = satflock.Scenario.load("gao-circle")
+    assert s.source == "builtin:gao-circle" and s.name == "gao-circle"
+    assert s["law.name"] == "bifurcating"
+    assert s["satellites.count"] == 50
+    assert "law.k_f_kg_per_m_s2" in s and "law.no_such_key" not in s
+    with pytest.raises(KeyError):
+        s["law.no_such_key"]
+    assert "gao-circle" in satflock.Scenario.builtins()
+
+
+def test_dict_and_toml_round_trips_keep_every_value():
+    s = satflock.Scenario.load("hold")
+    d = s.to_dict()
+    assert satflock.Scenario.from_dict(d).to_dict() == d
+    assert satflock.Scenario.from_toml(s.to_toml()).to_dict() == d
+
+
+def test_set_validates_and_refusals_leave_the_scenario_unchanged(tmp_path):
+    s = satflock.Scenario.load("gao-circle")
+    s["duration_s"] = np.float64(120.0)  # numpy scalars are taken as their Python value
+    s["satellites.count"] = np.int64(20)
+    assert s["duration_s"] == 120.0 and s["satellites.count"] == 20
+    with pytest.raises(satflock.ScenarioError) as e:
+        s["duration_s"] = -1.0
+    assert e.value.file == "builtin:gao-circle" and e.value.key == "duration_s"
+    assert "allowed" in str(e.value) and "> 0" in str(e.value)
+    assert s["duration_s"] == 120.0
+    with pytest.raises(satflock.ScenarioError) as e:
+        s["law.no_such_key"] = 1.0
+    assert e.value.key == "law.no_such_key"
+    with pytest.raises(satflock.ScenarioError):
+        s["duration_s"] = None
+    # Values that must change together: one validation for all.
+    s.update({"duration_s": 60.0, "record_interval_s": 5.0})
+    assert s["record_interval_s"] == 5.0
+
+
+def test_a_file_with_an_unknown_key_names_the_file_and_the_line(tmp_path):
+    path = tmp_path / "bad.toml"
+    text = satflock.Scenario.load("hold").to_toml() + "\nunknown_key_m = 3.0\n"
+    path.write_text(text)
+    with pytest.raises(satflock.ScenarioError) as e:
+        satflock.Scenario.load(str(path))
+    assert e.value.file == str(path)
+    assert "unknown_key_m" in str(e.value)
+
+
+def test_an_unknown_name_lists_the_builtins():
+    with pytest.raises(satflock.ScenarioError) as e:
+        satflock.Scenario.load("no-such-scenario")
+    assert "gao-circle" in str(e.value)
