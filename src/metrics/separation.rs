@@ -121,7 +121,8 @@ fn spacing_cell_m(x_m: &[f64], y_m: &[f64], z_m: &[f64]) -> Option<f64> {
     cell_m.is_finite().then_some(cell_m)
 }
 
-/// Above this many candidates a narrow search compares all pairs directly instead of building a grid.
+/// Up to this many candidates a narrow search compares all pairs directly; above it, it builds a grid of
+/// the candidates.
 const DIRECT_PAIRS_UP_TO: usize = 48;
 
 /// Exact minimum separation, closest pair and collision count of a moving swarm over successive
