@@ -42,6 +42,9 @@ pub enum BenchCommand {
         name: String,
         /// Number of satellites.
         n: usize,
+        /// Timed steps (default: the suite's, fewer at larger N); more for profiling.
+        #[arg(long)]
+        steps: Option<usize>,
     },
 }
 
@@ -49,7 +52,7 @@ pub enum BenchCommand {
 pub fn bench_command(args: &BenchArgs) -> Result<()> {
     match &args.action {
         Some(BenchCommand::Propagate(propagate)) => propagate::run(propagate),
-        Some(BenchCommand::Case { name, n }) => suite::run_case(name, *n),
+        Some(BenchCommand::Case { name, n, steps }) => suite::run_case(name, *n, *steps),
         None => suite::run_suite(args.quick, args.case.as_deref(), args.max_n),
     }
 }

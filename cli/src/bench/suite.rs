@@ -119,8 +119,9 @@ fn steps_for(n: usize) -> usize {
     }
 }
 
-/// Measures one case at `n` satellites in this process and prints its JSON line (`satflock bench case`).
-pub fn run_case(name: &str, n: usize) -> Result<()> {
+/// Measures one case at `n` satellites in this process over `steps` timed steps (the suite's default for
+/// `n` when `None`) and prints its JSON line (`satflock bench case`).
+pub fn run_case(name: &str, n: usize, steps: Option<usize>) -> Result<()> {
     let &(name, law, largest) = case_entry(name)?;
     if !(2..=largest).contains(&n) {
         return Err(crate::usage(format!(
@@ -139,7 +140,7 @@ pub fn run_case(name: &str, n: usize) -> Result<()> {
         let mut simulation = simulation(name, n)?;
         simulation.step()?;
         let before = simulation.stage_timings();
-        let steps = steps_for(n);
+        let steps = steps.unwrap_or_else(|| steps_for(n));
         let clock = Instant::now();
         for _ in 0..steps {
             simulation.step()?;
