@@ -45,6 +45,9 @@ const CELL_MARGIN: f64 = 1e-6;
 /// 1e-8 slack covers the ≤ 3e-9-cell rounding error of two cell coordinates (see [`CELL_MARGIN`]).
 const GAP_FACTOR: f64 = 1.0 - 1e-8;
 
+/// Candidates whose squared distances a fixed-radius query computes in one branch-free batch.
+const SCAN_BATCH: usize = 64;
+
 /// At most this many cells per axis; thinner spreads get cells larger than the radius.
 const MAX_CELLS_PER_AXIS: f64 = 1_048_576.0;
 
@@ -164,6 +167,10 @@ pub struct NeighbourGrid {
     scratch_cell: Vec<u32>,
     /// Build scratch (sparse): (cell key, satellite) pairs.
     scratch_pairs: Vec<(u64, u32)>,
+    /// Whether [`NeighbourGrid::mask`] was applied since the last build.
+    masked: bool,
+    /// Per storage slot: hidden by the mask. Empty when nothing is hidden.
+    hidden: Vec<bool>,
 }
 
 impl NeighbourGrid {
@@ -327,6 +334,32 @@ impl NeighbourGrid {
         self.cell_start.push(0);
         self.cell_start.push(0);
         self.cell_keys.clear();
+        self.masked = false;
+        self.hidden.clear();
+    }
+
+    /// Hides every satellite `i` with `visible(i) == false` from all queries until the next build: it is
+    /// nobody's neighbour and nobody's nearest neighbour. A hidden satellite can still be queried about
+    /// its own neighbourhood (its position stays in the grid). Costs one pass over the satellites in
+    /// index order, and one in storage order when something is hidden.
+    pub fn mask(&mut self, visible: impl Fn(usize) -> bool) {
+        self.hidden.clear();
+        if (0..self.len()).any(|i| !visible(i)) {
+            self.hidden
+                .extend(self.items.iter().map(|&i| !visible(i as usize)));
+        }
+        self.masked = true;
+    }
+
+    /// Whether [`Self::mask`] was applied since the last build (so its visibility rule holds for every
+    /// query).
+    pub fn is_masked(&self) -> bool {
+        self.masked
+    }
+
+    /// Whether the satellite in storage slot `s` is hidden by the mask.
+    fn hidden_slot(&self, s: usize) -> bool {
+        self.hidden.get(s).copied().unwrap_or(false)
     }
 
     /// Query radius of the last successful build (m); 0 for an empty or failed grid.
@@ -385,8 +418,9 @@ impl NeighbourGrid {
         [self.xs[s], self.ys[s], self.zs[s]]
     }
 
-    /// Calls `visit` once for every satellite `j != i` with `|p_j - p_i| <= radius_m()` (see the module
-    /// docs for the inclusion rule and the deterministic visit order). Never allocates.
+    /// Calls `visit` once for every satellite `j != i`, not hidden by [`Self::mask`], with
+    /// `|p_j - p_i| <= radius_m()` (see the module docs for the inclusion rule and the deterministic visit
+    /// order). Never allocates.
     ///
     /// # Panics
     /// If `i >= self.len()`.
@@ -410,40 +444,66 @@ impl NeighbourGrid {
         let c = self.cell_of(p);
         // Satellites k + 1 or more cells away are farther than k · gap (> reach once k = K).
         let gap = self.cell_m * GAP_FACTOR;
-        let k = ((reach_m / gap).floor() + 1.0).min(self.max_dim() as f64) as u64;
+        // (Float-to-int casts truncate, which is floor for the non-negative values here, and saturate.)
+        let k = ((reach_m / gap) as u64).saturating_add(1).min(self.max_dim());
         // Prefilter on squared distance, with a relative margin so it never rejects a point that passes
         // the exact `sqrt(d2) <= reach` test.
         let reach2 = reach_m * reach_m * (1.0 + 1e-10);
-        let mut test = |s: usize| {
-            if s == si {
-                return;
-            }
-            let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
-            let d2 = dx * dx + dy * dy + dz * dz;
-            if d2 <= reach2 {
-                let d = d2.sqrt();
-                if d <= reach_m {
-                    visit(Neighbour {
-                        index: self.items[s] as usize,
-                        dx_m: dx,
-                        dy_m: dy,
-                        dz_m: dz,
-                        distance_m: d,
-                    });
+        // Each row of cells is scanned in batches: first the squared distances of the whole batch,
+        // with the indices that pass appended without a branch (most candidates fail, unpredictably),
+        // then the exact test and the visit for those, in slot order.
+        let mut passed = [0u32; SCAN_BATCH];
+        let mut scan = |slots: Range<usize>| {
+            let mut start = slots.start;
+            while start < slots.end {
+                let end = (start + SCAN_BATCH).min(slots.end);
+                let (xs, ys, zs) = (
+                    &self.xs[start..end],
+                    &self.ys[start..end],
+                    &self.zs[start..end],
+                );
+                let mut count = 0;
+                for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
+                    let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
+                    passed[count] = offset as u32;
+                    count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
                 }
+                for &offset in &passed[..count] {
+                    let s = start + offset as usize;
+                    let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
+                    let d = (dx * dx + dy * dy + dz * dz).sqrt();
+                    if s != si && d <= reach_m && !self.hidden_slot(s) {
+                        visit(Neighbour {
+                            index: self.items[s] as usize,
+                            dx_m: dx,
+                            dy_m: dy,
+                            dz_m: dz,
+                            distance_m: d,
+                        });
+                    }
+                }
+                start = end;
             }
         };
         if self.block_cells(c, k) > self.brute_force_threshold() {
-            (0..self.len()).for_each(test);
+            scan(0..self.len());
         } else {
-            self.visit_block(c, k, &mut test);
+            let (x_lo, x_hi) = self.span(c, k, 0);
+            let (y_lo, y_hi) = self.span(c, k, 1);
+            let (z_lo, z_hi) = self.span(c, k, 2);
+            for z in z_lo..=z_hi {
+                for y in y_lo..=y_hi {
+                    scan(self.row(y, z, x_lo, x_hi));
+                }
+            }
         }
     }
 
     /// The nearest other satellite to satellite `i`, at any distance (the search widens ring by ring of
     /// cells beyond the grid radius, and falls back to a scan of all satellites when the rings grow larger
-    /// than the swarm). Ties in distance go to the smaller index. `None` when the grid holds fewer than
-    /// two satellites. Never allocates.
+    /// than the swarm). Ties in distance go to the smaller index; satellites hidden by [`Self::mask`] are
+    /// skipped. `None` when the grid holds fewer than two satellites or every other one is hidden. Never
+    /// allocates.
     ///
     /// # Panics
     /// If `i >= self.len()`.
@@ -456,7 +516,7 @@ impl NeighbourGrid {
         let c = self.cell_of(p);
         let mut best: Option<Neighbour> = None;
         let consider = |s: usize, best: &mut Option<Neighbour>| {
-            if s == si {
+            if s == si || self.hidden_slot(s) {
                 return;
             }
             let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
@@ -496,8 +556,9 @@ impl NeighbourGrid {
     fn cell_of(&self, p: [f64; 3]) -> [u64; 3] {
         let mut c = [0; 3];
         for a in 0..3 {
-            let u = ((p[a] - self.origin_m[a]) * self.inv_cell).floor();
-            // Float-to-int casts saturate (negative -> 0); the clamp guards the top edge.
+            let u = (p[a] - self.origin_m[a]) * self.inv_cell;
+            // Float-to-int casts truncate (floor, as u >= 0: p is never below the origin, the lowest
+            // coordinate) and saturate (NaN and negative -> 0); the clamp guards the top edge.
             c[a] = (u as u64).min(self.dims[a] - 1);
         }
         c
@@ -551,7 +612,9 @@ impl NeighbourGrid {
         }
     }
 
-    /// Visits every slot in the clamped block of half-width `k` around cell `c`, in visit order.
+    /// Visits every slot in the clamped block of half-width `k` around cell `c`, in visit order (the
+    /// plain walk the batched scan of [`Self::for_each_within`] is tested against).
+    #[cfg(test)]
     fn visit_block(&self, c: [u64; 3], k: u64, f: &mut impl FnMut(usize)) {
         let (x_lo, x_hi) = self.span(c, k, 0);
         let (y_lo, y_hi) = self.span(c, k, 1);
@@ -608,6 +671,82 @@ mod tests {
         assert_eq!(g.layout(), GridLayout::Sparse);
         g.build(&x, &y, &z, 5e4).unwrap();
         assert_eq!(g.layout(), GridLayout::Dense);
+    }
+
+    /// The plain query: every slot of the whole block (or every slot when the block outgrows the
+    /// swarm), with the documented inclusion rule, in visit order.
+    fn plain_within(g: &NeighbourGrid, i: usize, reach_m: f64) -> Vec<Neighbour> {
+        let si = g.slot_of[i] as usize;
+        let p = [g.xs[si], g.ys[si], g.zs[si]];
+        let c = g.cell_of(p);
+        let k = ((reach_m / (g.cell_m * GAP_FACTOR)).floor() + 1.0).min(g.max_dim() as f64) as u64;
+        let mut out = Vec::new();
+        let mut test = |s: usize| {
+            let (dx, dy, dz) = (g.xs[s] - p[0], g.ys[s] - p[1], g.zs[s] - p[2]);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            if s != si && d <= reach_m {
+                out.push(Neighbour {
+                    index: g.items[s] as usize,
+                    dx_m: dx,
+                    dy_m: dy,
+                    dz_m: dz,
+                    distance_m: d,
+                });
+            }
+        };
+        if g.block_cells(c, k) > g.brute_force_threshold() {
+            (0..g.len()).for_each(test);
+        } else {
+            g.visit_block(c, k, &mut test);
+        }
+        out
+    }
+
+    /// The batched scan changes neither the answers nor their order: it equals the plain slot-by-slot
+    /// walk of the block, neighbour by neighbour, on dense and sparse layouts, at ECI-sized offsets, on
+    /// a lattice with many pairs exactly at the reach, for reaches from a fraction of a cell to several
+    /// cells (and the all-satellite scan when the block outgrows the swarm).
+    #[test]
+    fn batched_query_visits_exactly_what_the_plain_walk_visits() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut g = NeighbourGrid::new();
+        let mut visited = 0;
+        for (offset, spread, lattice) in [
+            (0.0, 100.0, false),
+            (7e6, 30.0, false),
+            (0.0, 6.0, true),
+            (-3e5, 2e5, false),
+        ] {
+            let n = 1500;
+            let mut coordinate = || {
+                let v = uniform() * spread;
+                offset + if lattice { v.floor() } else { v }
+            };
+            let (mut x, mut y, mut z) = (Vec::new(), Vec::new(), Vec::new());
+            for _ in 0..n {
+                x.push(coordinate());
+                y.push(coordinate());
+                z.push(coordinate());
+            }
+            let radius = spread / 12.0;
+            g.build(&x, &y, &z, radius).unwrap();
+            for reach in [0.3 * radius, radius, 1.7 * radius, 3.0 * radius] {
+                let reach = if lattice { reach.round().max(1.0) } else { reach };
+                for i in 0..n {
+                    let mut batched = Vec::new();
+                    g.for_each_within(i, reach, |nb| batched.push(nb));
+                    assert_eq!(batched, plain_within(&g, i, reach), "satellite {i}, reach {reach}");
+                    visited += batched.len();
+                }
+            }
+        }
+        assert!(visited > 100_000, "too few neighbours to test: {visited}");
     }
 
     #[test]

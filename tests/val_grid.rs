@@ -282,3 +282,49 @@ fn val_nearest_neighbour_beyond_radius() {
         );
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(60))]
+
+    /// A masked grid answers as brute force over the visible satellites only: hidden ones are nobody's
+    /// neighbour or nearest neighbour, yet can still be asked about their own neighbourhood; the next
+    /// build clears the mask.
+    #[test]
+    fn val_mask_hides_exactly_the_invisible(
+        seed in any::<u64>(),
+        n in 2usize..300,
+        mode in 0u8..5,
+        factor in 0.05f64..3.0,
+        hidden_every in 1usize..6,
+    ) {
+        let (x, y, z) = swarm(seed, n, mode);
+        let r = radius_for(mode, factor);
+        let visible = |i: usize| (i * 7 + seed as usize % 5) % hidden_every != 0 || hidden_every == 1;
+        let mut g = NeighbourGrid::new();
+        g.build(&x, &y, &z, r).unwrap();
+        prop_assert!(!g.is_masked());
+        g.mask(visible);
+        prop_assert!(g.is_masked());
+        for i in 0..n {
+            let expected: Vec<Neighbour> = brute_within(&x, &y, &z, i, r)
+                .into_iter()
+                .filter(|nb| visible(nb.index))
+                .collect();
+            prop_assert_eq!(grid_within(&g, i, None), expected);
+            let nearest = (0..n)
+                .filter(|&j| j != i && visible(j))
+                .map(|j| {
+                    let d = ((x[j] - x[i]).powi(2) + (y[j] - y[i]).powi(2) + (z[j] - z[i]).powi(2)).sqrt();
+                    (j, d)
+                })
+                .fold(None, |best: Option<(usize, f64)>, (j, d)| match best {
+                    Some((_, b)) if b <= d => best,
+                    _ => Some((j, d)),
+                });
+            prop_assert_eq!(g.nearest_neighbour(i).map(|nb| (nb.index, nb.distance_m)), nearest);
+        }
+        g.build(&x, &y, &z, r).unwrap();
+        prop_assert!(!g.is_masked());
+        prop_assert_eq!(grid_within(&g, 0, None), brute_within(&x, &y, &z, 0, r));
+    }
+}

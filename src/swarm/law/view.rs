@@ -107,7 +107,9 @@ pub struct SwarmView<'a> {
     /// `false` for satellites whose links are cut: they neither see nor are seen.
     pub links_up: &'a [bool],
     /// Grid over the navigation positions, built with the sensing range as its radius (empty if a
-    /// position was not finite; the divergence check then stops the run after the step).
+    /// position was not finite; the divergence check then stops the run after the step). The engine
+    /// masks it ([`NeighbourGrid::mask`]) with `active && links_up`; an unmasked grid works too (the
+    /// views then check the flags of every neighbour).
     pub grid: &'a NeighbourGrid,
     /// Swarm-level information.
     pub shared: SharedInfo,
@@ -208,17 +210,25 @@ impl SatelliteView<'_> {
         if !s.links_up[self.id] || self.id >= s.grid.len() {
             return;
         }
-        s.grid.for_each_neighbour(self.id, |nb| {
-            let j = nb.index;
-            if s.active[j] && s.links_up[j] {
-                visit(&Neighbour {
-                    id: j,
-                    state: s.relative_states[j],
-                    offset_m: Vector3::new(nb.dx_m, nb.dy_m, nb.dz_m),
-                    distance_m: nb.distance_m,
-                });
-            }
-        });
+        let mut report = |nb: crate::grid::Neighbour| {
+            visit(&Neighbour {
+                id: nb.index,
+                state: s.relative_states[nb.index],
+                offset_m: Vector3::new(nb.dx_m, nb.dy_m, nb.dz_m),
+                distance_m: nb.distance_m,
+            })
+        };
+        if s.grid.is_masked() {
+            // The engine's grid hides removed and unlinked satellites itself: no per-neighbour lookup
+            // of the flags (by id, so scattered in memory).
+            s.grid.for_each_neighbour(self.id, report);
+        } else {
+            s.grid.for_each_neighbour(self.id, |nb| {
+                if s.active[nb.index] && s.links_up[nb.index] {
+                    report(nb);
+                }
+            });
+        }
     }
 
     /// Visits every threat within sensing range (the threat's detection range where the scenario gives

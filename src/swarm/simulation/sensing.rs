@@ -175,7 +175,10 @@ impl<'a> Plant<'a> {
         }
         // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
         // the divergence check after the segment then stops the run and names the satellite.
-        let _ = grid.build(x, y, z, self.config.sensing.range_m);
+        if grid.build(x, y, z, self.config.sensing.range_m).is_ok() {
+            let (active, links_up) = (&self.fleet.active, &self.fleet.links_up);
+            grid.mask(|i| active[i] && links_up[i]);
+        }
         SwarmView {
             relative_states: navigation,
             masses_kg: &self.fleet.masses_kg,
@@ -289,7 +292,8 @@ mod tests {
 
     /// Cell-order evaluation gives exactly the bits of the plain id-order evaluation, at 1 and 3
     /// threads, on a swarm with removed and link-cut satellites and a stateful neighbour law (pigeon,
-    /// three neighbour loops) and a memoryless one (bifurcating).
+    /// three neighbour loops) and a memoryless one (bifurcating); and the engine's masked grid gives
+    /// the bits of an unmasked one, whose views check every neighbour's flags.
     #[test]
     fn cell_order_commands_equal_id_order_bitwise() {
         for law in [
@@ -329,6 +333,28 @@ mod tests {
             let mut plain = vec![Vector3::zeros(); n];
             plant.commands(&sim.law, &view, 5, &mut plain);
             assert!(plain.iter().any(|u| u.norm() > 0.0));
+            assert!(view.grid.is_masked());
+            let axis = |a: usize| -> Vec<f64> {
+                view.relative_states
+                    .iter()
+                    .map(|s| s.position_m[a])
+                    .collect()
+            };
+            let mut unmasked_grid = NeighbourGrid::new();
+            unmasked_grid
+                .build(&axis(0), &axis(1), &axis(2), sim.config.sensing.range_m)
+                .unwrap();
+            let unmasked = SwarmView {
+                grid: &unmasked_grid,
+                ..view
+            };
+            let mut checked = vec![Vector3::zeros(); n];
+            plant.commands(&sim.law, &unmasked, 5, &mut checked);
+            for (a, b) in plain.iter().zip(&checked) {
+                for k in 0..3 {
+                    assert_eq!(a[k].to_bits(), b[k].to_bits());
+                }
+            }
             for threads in [1, 3] {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
