@@ -435,17 +435,32 @@ impl NeighbourGrid {
     ///
     /// # Panics
     /// If `i >= self.len()`.
-    pub fn for_each_within(&self, i: usize, reach_m: f64, mut visit: impl FnMut(Neighbour)) {
+    pub fn for_each_within(&self, i: usize, reach_m: f64, visit: impl FnMut(Neighbour)) {
+        self.for_each_within_slot(self.slot_of[i] as usize, reach_m, visit);
+    }
+
+    /// [`Self::for_each_neighbour`] of the satellite stored in slot `si` (its position in
+    /// [`Self::cell_order`]): for callers walking the satellites in storage order.
+    ///
+    /// # Panics
+    /// If `si >= self.len()`.
+    pub(crate) fn for_each_neighbour_of_slot(&self, si: usize, visit: impl FnMut(Neighbour)) {
+        self.for_each_within_slot(si, self.radius_m, visit);
+    }
+
+    /// [`Self::for_each_within`] of the satellite stored in slot `si`.
+    fn for_each_within_slot(&self, si: usize, reach_m: f64, mut visit: impl FnMut(Neighbour)) {
         if reach_m.is_nan() || reach_m < 0.0 {
             return;
         }
-        let si = self.slot_of[i] as usize;
         let p = [self.xs[si], self.ys[si], self.zs[si]];
         let c = self.cell_of(p);
         // Satellites k + 1 or more cells away are farther than k · gap (> reach once k = K).
         let gap = self.cell_m * GAP_FACTOR;
         // (Float-to-int casts truncate, which is floor for the non-negative values here, and saturate.)
-        let k = ((reach_m / gap) as u64).saturating_add(1).min(self.max_dim());
+        let k = ((reach_m / gap) as u64)
+            .saturating_add(1)
+            .min(self.max_dim());
         // Prefilter on squared distance, with a relative margin so it never rejects a point that passes
         // the exact `sqrt(d2) <= reach` test.
         let reach2 = reach_m * reach_m * (1.0 + 1e-10);
@@ -737,11 +752,19 @@ mod tests {
             let radius = spread / 12.0;
             g.build(&x, &y, &z, radius).unwrap();
             for reach in [0.3 * radius, radius, 1.7 * radius, 3.0 * radius] {
-                let reach = if lattice { reach.round().max(1.0) } else { reach };
+                let reach = if lattice {
+                    reach.round().max(1.0)
+                } else {
+                    reach
+                };
                 for i in 0..n {
                     let mut batched = Vec::new();
                     g.for_each_within(i, reach, |nb| batched.push(nb));
-                    assert_eq!(batched, plain_within(&g, i, reach), "satellite {i}, reach {reach}");
+                    assert_eq!(
+                        batched,
+                        plain_within(&g, i, reach),
+                        "satellite {i}, reach {reach}"
+                    );
                     visited += batched.len();
                 }
             }

@@ -9,7 +9,9 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::{Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SwarmFacts, SwarmView};
+use super::{
+    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+};
 
 /// Smallest number of satellites per parallel work item (results never depend on the split: each
 /// satellite's new state is computed on its own).
@@ -48,7 +50,7 @@ trait ErasedLaw: Send + Sync {
         active: &[bool],
         context: &(dyn Fn(usize) -> LawContext + Sync),
     );
-    fn command(&self, swarm: &SwarmView<'_>, id: usize, context: &LawContext) -> Vector3<f64>;
+    fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError>;
     fn write_outputs(&self, values: &mut [f64]);
     fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]);
@@ -132,9 +134,9 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         std::mem::swap(&mut self.current, &mut self.next);
     }
 
-    fn command(&self, swarm: &SwarmView<'_>, id: usize, context: &LawContext) -> Vector3<f64> {
+    fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64> {
         self.law
-            .command(&swarm.satellite(id), &self.current[id], context)
+            .command(satellite, &self.current[satellite.id()], context)
     }
 
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError> {
@@ -265,11 +267,10 @@ impl Law {
 
     pub(crate) fn command(
         &self,
-        swarm: &SwarmView<'_>,
-        id: usize,
+        satellite: &SatelliteView<'_>,
         context: &LawContext,
     ) -> Vector3<f64> {
-        self.0.command(swarm, id, context)
+        self.0.command(satellite, context)
     }
 
     pub(crate) fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError> {

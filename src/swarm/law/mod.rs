@@ -32,6 +32,7 @@ use thiserror::Error;
 
 pub use context::LawContext;
 pub use handle::{Law, LawParameters};
+pub(crate) use view::OwnSample;
 pub use view::{
     Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,
     SwarmFacts, SwarmView,

@@ -170,7 +170,50 @@ impl<'a> SwarmView<'a> {
 
     /// The view satellite `id` is allowed to have.
     pub fn satellite(&self, id: usize) -> SatelliteView<'a> {
-        SatelliteView { id, swarm: *self }
+        SatelliteView {
+            id,
+            own: None,
+            swarm: *self,
+        }
+    }
+
+    /// The view of satellite `own.id` with its own data already at hand (copied from this view by the
+    /// engine, so the same values): a law evaluated in the grid's cell order then reads nothing of its
+    /// own satellite by id (scattered in memory on a large swarm).
+    pub(crate) fn satellite_with(&self, own: OwnSample) -> SatelliteView<'a> {
+        SatelliteView {
+            id: own.id,
+            own: Some(own),
+            swarm: *self,
+        }
+    }
+}
+
+/// A satellite's own data in a [`SwarmView`], copied out: its navigation state, mass and grid slot.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct OwnSample {
+    /// The satellite's index.
+    pub id: usize,
+    /// Its storage slot in the view's grid.
+    pub slot: usize,
+    /// Its navigation state, Hill frame \[m, m/s\].
+    pub state: RelativeStateHill,
+    /// Its mass \[kg\].
+    pub mass_kg: f64,
+    /// Whether its links are up.
+    pub links_up: bool,
+}
+
+impl OwnSample {
+    /// Satellite `id`'s data in `swarm`, whose grid holds it in storage slot `slot`.
+    pub fn of(swarm: &SwarmView<'_>, id: usize, slot: usize) -> Self {
+        Self {
+            id,
+            slot,
+            state: swarm.relative_states[id],
+            mass_kg: swarm.masses_kg[id],
+            links_up: swarm.links_up[id],
+        }
     }
 }
 
@@ -178,6 +221,8 @@ impl<'a> SwarmView<'a> {
 #[derive(Clone, Copy)]
 pub struct SatelliteView<'a> {
     id: usize,
+    /// The satellite's own data when the engine copied it out (else read from `swarm` by id).
+    own: Option<OwnSample>,
     swarm: SwarmView<'a>,
 }
 
@@ -189,12 +234,18 @@ impl SatelliteView<'_> {
 
     /// Own state relative to the LVLH origin, Hill frame \[m, m/s\].
     pub fn own_state(&self) -> RelativeStateHill {
-        self.swarm.relative_states[self.id]
+        match &self.own {
+            Some(own) => own.state,
+            None => self.swarm.relative_states[self.id],
+        }
     }
 
     /// Own mass \[kg\].
     pub fn mass_kg(&self) -> f64 {
-        self.swarm.masses_kg[self.id]
+        match &self.own {
+            Some(own) => own.mass_kg,
+            None => self.swarm.masses_kg[self.id],
+        }
     }
 
     /// Swarm-level information.
@@ -207,7 +258,10 @@ impl SatelliteView<'_> {
     /// non-finite navigation position left it unbuilt; the divergence check then stops the run).
     pub fn for_each_neighbour(&self, mut visit: impl FnMut(&Neighbour)) {
         let s = &self.swarm;
-        if !s.links_up[self.id] || self.id >= s.grid.len() {
+        let links_up = self
+            .own
+            .map_or_else(|| s.links_up[self.id], |own| own.links_up);
+        if !links_up || self.id >= s.grid.len() {
             return;
         }
         let mut report = |nb: crate::grid::Neighbour| {
@@ -221,7 +275,10 @@ impl SatelliteView<'_> {
         if s.grid.is_masked() {
             // The engine's grid hides removed and unlinked satellites itself: no per-neighbour lookup
             // of the flags (by id, so scattered in memory).
-            s.grid.for_each_neighbour(self.id, report);
+            match &self.own {
+                Some(own) => s.grid.for_each_neighbour_of_slot(own.slot, report),
+                None => s.grid.for_each_neighbour(self.id, report),
+            }
         } else {
             s.grid.for_each_neighbour(self.id, |nb| {
                 if s.active[nb.index] && s.links_up[nb.index] {
@@ -236,7 +293,7 @@ impl SatelliteView<'_> {
     /// own sensors: a satellite whose links are cut still sees them.
     pub fn for_each_threat(&self, mut visit: impl FnMut(&SensedThreat)) {
         let s = &self.swarm;
-        let own = s.relative_states[self.id].position_m;
+        let own = self.own_state().position_m;
         for (id, threat) in s.environment.threats.iter().enumerate() {
             let position = threat.position_hill_m(s.shared.time_s);
             let offset_m = position - own;
@@ -261,7 +318,7 @@ impl SatelliteView<'_> {
     /// gives one, else the satellite's sensing range; measured to the surface), in scenario order.
     pub fn for_each_obstacle(&self, mut visit: impl FnMut(&SensedObstacle)) {
         let s = &self.swarm;
-        let own = s.relative_states[self.id].position_m;
+        let own = self.own_state().position_m;
         for (id, obstacle) in s.environment.obstacles.iter().enumerate() {
             let center = obstacle.center_hill_m();
             let offset_m = center - own;
@@ -302,7 +359,7 @@ impl SatelliteView<'_> {
         let s = &self.swarm;
         let t = s.environment.threats.get(threat)?;
         let position = t.position_hill_m(s.shared.time_s);
-        let offset_m = position - s.relative_states[self.id].position_m;
+        let offset_m = position - self.own_state().position_m;
         Some(SensedThreat {
             id: threat,
             position_hill_m: position,

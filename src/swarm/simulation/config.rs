@@ -45,6 +45,13 @@ pub struct Sensing {
     pub velocity_noise_mps: f64,
 }
 
+impl Sensing {
+    /// Whether the satellites' navigation states carry noise.
+    pub fn has_navigation_noise(&self) -> bool {
+        self.position_noise_m > 0.0 || self.velocity_noise_mps > 0.0
+    }
+}
+
 /// Everything the engine needs besides the satellites and the law.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimulationConfig {

@@ -102,11 +102,14 @@ pub struct Simulation {
     threat_warnings: Vec<bool>,
     /// Truth relative states at `time_s`, Hill frame (refreshed after every segment).
     truth: Vec<RelativeStateHill>,
-    /// Truth relative states at the start of the last segment (for the continuous monitors).
+    /// Truth relative states at the start of the last segment (for the continuous monitors of threats
+    /// and obstacles; empty in a scenario without either).
     truth_previous: Vec<RelativeStateHill>,
-    /// Navigation noise held over the current tick: position \[m\] and velocity \[m/s\], Hill frame.
+    /// Navigation noise held over the current tick: position \[m\] and velocity \[m/s\], Hill frame
+    /// (empty in a scenario without navigation noise).
     navigation_noise: Vec<[f64; 6]>,
-    /// Process noise held over the current tick, Hill frame \[m/s^2\].
+    /// Process noise held over the current tick, Hill frame \[m/s^2\] (empty in a scenario without
+    /// process noise: read it through [`process_noise_of`]).
     process_noise_hill: Vec<Vector3<f64>>,
     /// The tick's sensing buffers (navigation states and grid).
     sensed: Sensed,
@@ -247,9 +250,22 @@ impl Simulation {
             events,
             threat_warnings: vec![false; config.threats.len()],
             truth: vec![RelativeStateHill::default(); n],
-            truth_previous: vec![RelativeStateHill::default(); n],
-            navigation_noise: vec![[0.0; 6]; n],
-            process_noise_hill: vec![Vector3::zeros(); n],
+            // Buffers a scenario's features need, and only then (a million satellites: 120 bytes each).
+            truth_previous: if config.threats.is_empty() && config.obstacles.is_empty() {
+                Vec::new()
+            } else {
+                vec![RelativeStateHill::default(); n]
+            },
+            navigation_noise: if config.sensing.has_navigation_noise() {
+                vec![[0.0; 6]; n]
+            } else {
+                Vec::new()
+            },
+            process_noise_hill: if config.process_noise_m_s2 > 0.0 {
+                vec![Vector3::zeros(); n]
+            } else {
+                Vec::new()
+            },
             sensed: Sensed::new(n),
             live: LiveMetrics::new(n),
             applied_hill: vec![Vector3::zeros(); n],

@@ -13,6 +13,7 @@ use crate::integrate::{
 use crate::orbit::RelativeStateHill;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::Law;
+use crate::swarm::simulation::scheduler::process_noise_of;
 use crate::swarm::simulation::sensing::{Plant, Sensed, CHUNK};
 use crate::swarm::state::{
     ledger_index, reference_of, satellite_index, satellite_of, LEDGER_COMPONENTS,
@@ -92,7 +93,7 @@ impl OdeSystem for CoupledSwarm<'_> {
                 let (control, ledger) = if kinematic {
                     (u, Vector3::zeros())
                 } else {
-                    let total = u + self.process_noise_hill[i];
+                    let total = u + process_noise_of(self.process_noise_hill, i);
                     let control = match &frame {
                         Some(f) => f.vector_hill_to_eci(&total),
                         None => total,

@@ -127,7 +127,9 @@ impl Simulation {
             self.start_tick(t0)?;
         }
         let clock = Instant::now();
-        self.truth_previous.copy_from_slice(&self.truth);
+        if !self.truth_previous.is_empty() {
+            self.truth_previous.copy_from_slice(&self.truth);
+        }
         let n = self.state.n();
         let plant = Plant::new(
             &self.config,
@@ -266,13 +268,17 @@ impl Simulation {
     /// Holds the tick's applied commands (plus process noise) in the dynamics frame until the next tick.
     fn hold_commands(&mut self, frame: Option<LvlhFrame>) {
         let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
-        for ((held, u), noise) in self
+        for (i, (held, u)) in self
             .held_control
             .iter_mut()
             .zip(&self.applied_hill)
-            .zip(&self.process_noise_hill)
+            .enumerate()
         {
-            let total = if kinematic { *u } else { u + noise };
+            let total = if kinematic {
+                *u
+            } else {
+                u + process_noise_of(&self.process_noise_hill, i)
+            };
             *held = match &frame {
                 Some(f) => f.vector_hill_to_eci(&total),
                 None => total,
@@ -321,7 +327,7 @@ impl Simulation {
     fn draw_noise(&mut self, tick: u64) {
         let sensing = self.config.sensing;
         let seed = self.config.seed;
-        if sensing.position_noise_m > 0.0 || sensing.velocity_noise_mps > 0.0 {
+        if sensing.has_navigation_noise() {
             self.navigation_noise
                 .par_iter_mut()
                 .with_min_len(CHUNK)
@@ -353,11 +359,22 @@ impl Simulation {
     }
 }
 
+/// Satellite `i`'s process noise of the tick, Hill frame \[m/s^2\]: zero when the scenario has none (its
+/// buffer is then empty), added all the same so that a command's bits do not depend on the buffer.
+pub(super) fn process_noise_of(process_noise_hill: &[Vector3<f64>], i: usize) -> Vector3<f64> {
+    process_noise_hill
+        .get(i)
+        .copied()
+        .unwrap_or_else(Vector3::zeros)
+}
+
 /// The navigation noise of the tick, if the scenario has any.
 pub(super) fn noise_if_any<'a>(
     config: &SimulationConfig,
     navigation_noise: &'a [[f64; 6]],
 ) -> Option<&'a [[f64; 6]]> {
-    let s = &config.sensing;
-    (s.position_noise_m > 0.0 || s.velocity_noise_mps > 0.0).then_some(navigation_noise)
+    config
+        .sensing
+        .has_navigation_noise()
+        .then_some(navigation_noise)
 }

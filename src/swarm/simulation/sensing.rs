@@ -10,7 +10,9 @@ use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::relative::SchweighartSedwick;
 use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
-use crate::swarm::law::{EnvironmentView, Law, LawContext, SharedInfo, SwarmView};
+use crate::swarm::law::{
+    EnvironmentView, Law, LawContext, OwnSample, SatelliteView, SharedInfo, SwarmView,
+};
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
 
@@ -197,11 +199,23 @@ impl<'a> Plant<'a> {
     /// The law context of satellite `i` at tick `tick` (time `time_s`), for the state update or (with
     /// `for_command`) the command: the two draw from independent streams.
     pub fn context(&self, i: usize, time_s: f64, tick: u64, for_command: bool) -> LawContext {
+        self.context_with(i, self.fleet.actuators[i], time_s, tick, for_command)
+    }
+
+    /// [`Self::context`] with satellite `i`'s actuator already at hand.
+    fn context_with(
+        &self,
+        i: usize,
+        actuator: Actuator,
+        time_s: f64,
+        tick: u64,
+        for_command: bool,
+    ) -> LawContext {
         let context = LawContext::new(
             time_s,
             tick,
             self.config.base_step_s(),
-            self.fleet.actuators[i],
+            actuator,
             i,
             self.config.seed,
         );
@@ -251,11 +265,36 @@ impl<'a> Plant<'a> {
             self.commands(law, view, tick, applied_hill);
             return;
         }
+        // Each batch first copies out its satellites' own data (loads by id, scattered in memory on a
+        // large swarm, issued back to back so they overlap), then evaluates the laws on the copies.
+        const BATCH: usize = 16;
         scratch
-            .par_iter_mut()
-            .zip(order.par_iter())
-            .with_min_len(CHUNK)
-            .for_each(|(out, &i)| *out = self.command_of(law, view, i as usize, tick));
+            .par_chunks_mut(CHUNK)
+            .zip(order.par_chunks(CHUNK))
+            .enumerate()
+            .for_each(|(chunk, (outs, ids))| {
+                let first_slot = chunk * CHUNK;
+                for (batch, (outs, ids)) in
+                    outs.chunks_mut(BATCH).zip(ids.chunks(BATCH)).enumerate()
+                {
+                    let first_slot = first_slot + batch * BATCH;
+                    let mut own = [None; BATCH];
+                    for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
+                        let i = i as usize;
+                        if self.fleet.active[i] {
+                            *own = Some((
+                                OwnSample::of(view, i, first_slot + k),
+                                self.fleet.actuators[i],
+                            ));
+                        }
+                    }
+                    for (out, own) in outs.iter_mut().zip(own) {
+                        *out = own.map_or_else(Vector3::zeros, |(own, actuator)| {
+                            self.applied(law, &view.satellite_with(own), actuator, tick)
+                        });
+                    }
+                }
+            });
         applied_hill
             .par_iter_mut()
             .with_min_len(CHUNK)
@@ -268,11 +307,30 @@ impl<'a> Plant<'a> {
         if !self.fleet.active[i] {
             return Vector3::zeros();
         }
-        let command = law.command(view, i, &self.context(i, view.shared.time_s, tick, true));
+        self.applied(law, &view.satellite(i), self.fleet.actuators[i], tick)
+    }
+
+    /// The applied command of the live satellite `satellite` with actuator `actuator`: the law's command
+    /// through the actuator, or the commanded velocity (kinematic model).
+    fn applied(
+        &self,
+        law: &Law,
+        satellite: &SatelliteView<'_>,
+        actuator: Actuator,
+        tick: u64,
+    ) -> Vector3<f64> {
+        let context = self.context_with(
+            satellite.id(),
+            actuator,
+            satellite.shared().time_s,
+            tick,
+            true,
+        );
+        let command = law.command(satellite, &context);
         if matches!(self.config.dynamics, DynamicsModel::Kinematic) {
             command
         } else {
-            self.fleet.actuators[i].apply(&command)
+            actuator.apply(&command)
         }
     }
 
