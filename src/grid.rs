@@ -15,6 +15,13 @@
 //!   axis are used; for an even thinner spread the cell edge grows beyond the radius, which keeps the
 //!   answers exact and only costs speed.
 //!
+//! * A fixed-radius query scans each row of cells in branch-free batches: the squared distances of up to
+//!   64 candidates, the slots that pass appended without a branch (most candidates fail, unpredictably),
+//!   then the exact test in slot order. The answers and their order are those of a plain slot-by-slot
+//!   walk (tested).
+//! * [`NeighbourGrid::mask`] hides satellites from every query until the next build (the engine hides
+//!   removed and unlinked ones), so a caller need not look up per-neighbour flags by index.
+//!
 //! Positions are in any Cartesian frame, in metres; the grid never mixes frames (it only takes
 //! differences). Queries take `&self`, and [`NeighbourGrid`] is `Sync`, so many rayon threads can query one
 //! grid at once.
