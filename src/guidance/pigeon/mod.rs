@@ -449,7 +449,7 @@ impl GuidanceLaw for Pigeon {
                 let member = if first {
                     egalitarian
                 } else {
-                    previous.is_neighbour(nb.id)
+                    linked || contains(previous.hierarchical_rest(), nb.id)
                 };
                 if member {
                     headings += switching::unit_heading(&pigeon_plane(&nb.state.velocity_mps));
