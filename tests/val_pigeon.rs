@@ -481,11 +481,7 @@ fn val_flock_forces_are_minus_the_gradient_of_the_summed_potentials_in_z_y_order
     let mut positions = vec![own];
     positions.extend_from_slice(&others);
     let scene = Scene::new(&positions, vec![obstacle]);
-    let state = PigeonState {
-        egalitarian: vec![1, 2, 3],
-        neighbours: vec![1, 2, 3],
-        ..PigeonState::default()
-    };
+    let state = PigeonState::with_links(&[1, 2, 3], None);
     let u = law.flock_acceleration(&scene.view().satellite(0), &state);
     let formation = law.formation_potential();
     let obstacle = law.obstacle_potential(30.0);

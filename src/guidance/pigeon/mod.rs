@@ -65,15 +65,19 @@ pub fn pigeon_plane(hill: &Vector3<f64>) -> Vector2<f64> {
 }
 
 /// One satellite's law state, updated once per tick.
+///
+/// The two neighbour sets are kept in one list of 32-bit ids (satellite ids, which the sensing grid
+/// keeps below 2³²): N_i^1 sorted, then — in the hierarchical pattern only — the rest of N_i^2
+/// sorted. N_i^1 ⊆ N_i^2 always (a link needs the distance ≤ R_c^1 ≤ R_c^2), so N_i is the whole list
+/// in the hierarchical pattern and N_i^1 in the egalitarian one.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PigeonState {
     /// Number of updates so far (0 before the first tick).
     pub updates: u64,
-    /// N_i^1: the egalitarian neighbours (hysteretic), sorted ids.
-    pub egalitarian: Vec<usize>,
-    /// N_i: the neighbours of this tick's pattern (N_i^1 or N_i^2), sorted ids; the next tick's V_a,i is
-    /// taken over them.
-    pub neighbours: Vec<usize>,
+    /// N_i^1 (sorted), then N_i^2 \ N_i^1 (sorted) when `hierarchical`.
+    links: Vec<u32>,
+    /// Length of N_i^1 at the front of `links`.
+    egalitarian_len: u32,
     /// This tick's pattern: hierarchical (`true`) or egalitarian.
     pub hierarchical: bool,
     /// V_a,i used for this tick's draw (dimensionless, in \[0, 1\]).
@@ -87,6 +91,80 @@ pub struct PigeonState {
     pub separation_violations: u64,
     /// Samples with an obstacle at 2-D centre distance ≤ r^O + R_L^4.
     pub clearance_violations: u64,
+}
+
+impl PigeonState {
+    /// A state in the given pattern with the egalitarian set N_i^1 `egalitarian` and, in the
+    /// hierarchical pattern, the hierarchical set N_i^2 `hierarchical_set` (ignored otherwise; its
+    /// members in N_i^1 are not repeated); every other field as before the first tick. Ids need not be
+    /// sorted; an id of 2³² or more (never a satellite the grid reports) is dropped.
+    pub fn with_links(egalitarian: &[usize], hierarchical_set: Option<&[usize]>) -> Self {
+        let to_ids = |ids: &[usize]| -> Vec<u32> {
+            let mut ids: Vec<u32> = ids.iter().filter_map(|&j| u32::try_from(j).ok()).collect();
+            ids.sort_unstable();
+            ids.dedup();
+            ids
+        };
+        let mut links = to_ids(egalitarian);
+        let egalitarian_len = links.len() as u32;
+        if let Some(set) = hierarchical_set {
+            let rest: Vec<u32> = to_ids(set)
+                .into_iter()
+                .filter(|j| links[..egalitarian_len as usize].binary_search(j).is_err())
+                .collect();
+            links.extend(rest);
+        }
+        Self {
+            links,
+            egalitarian_len,
+            hierarchical: hierarchical_set.is_some(),
+            ..Self::default()
+        }
+    }
+
+    /// N_i^1: the egalitarian neighbours (hysteretic), sorted ids.
+    pub fn egalitarian(&self) -> &[u32] {
+        &self.links[..self.egalitarian_len as usize]
+    }
+
+    /// N_i^2 \ N_i^1, sorted ids: the rest of this tick's hierarchical set (empty in the egalitarian
+    /// pattern).
+    fn hierarchical_rest(&self) -> &[u32] {
+        if self.hierarchical {
+            &self.links[self.egalitarian_len as usize..]
+        } else {
+            &[]
+        }
+    }
+
+    /// Whether satellite `id` is in N_i^1.
+    pub fn is_egalitarian(&self, id: usize) -> bool {
+        contains(self.egalitarian(), id)
+    }
+
+    /// Whether satellite `id` is in N_i, the neighbours of this tick's pattern (the next tick's V_a,i
+    /// is taken over them).
+    pub fn is_neighbour(&self, id: usize) -> bool {
+        self.is_egalitarian(id) || contains(self.hierarchical_rest(), id)
+    }
+
+    /// N_i: the neighbours of this tick's pattern (N_i^1 or N_i^2), sorted ids.
+    pub fn neighbours(&self) -> Vec<u32> {
+        let mut all = [self.egalitarian(), self.hierarchical_rest()].concat();
+        all.sort_unstable();
+        all
+    }
+}
+
+/// Whether the sorted ids `ids` hold satellite `id`.
+fn contains(ids: &[u32], id: usize) -> bool {
+    u32::try_from(id).is_ok_and(|id| ids.binary_search(&id).is_ok())
+}
+
+thread_local! {
+    /// Per-thread buffer of the update for N_i^2 \ N_i^1 until the pattern is drawn (so the update
+    /// never allocates once the buffers have grown).
+    static HIERARCHICAL_REST: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// The `pigeon` law.
@@ -200,13 +278,14 @@ impl Pigeon {
         satellite.for_each_neighbour(|nb| {
             let x_ij = -pigeon_plane(&nb.offset_m);
             let v_ij = v_i - pigeon_plane(&nb.state.velocity_mps);
-            if state.egalitarian.binary_search(&nb.id).is_ok() {
+            let egalitarian = state.is_egalitarian(nb.id);
+            if egalitarian {
                 let r = x_ij.norm();
                 if r > 0.0 {
                     u -= p.k_formation_per_s2 * formation.slope_m(r) * x_ij / r;
                 }
             }
-            if state.neighbours.binary_search(&nb.id).is_ok() {
+            if egalitarian || contains(state.hierarchical_rest(), nb.id) {
                 let leader = dominant || self.is_dominant(nb.id);
                 let w = if state.hierarchical && leader {
                     p.leader_weight
@@ -317,83 +396,100 @@ impl GuidanceLaw for Pigeon {
         Self::check_against(&self.parameters, swarm)
     }
 
-    /// Step 2 of Algorithm 1: N_i^1 (hysteresis), N_i^2, V_a,i over the previous N_i, p_h, the pattern
-    /// draw, and the barrier-violation counts.
+    /// Step 2 of Algorithm 1 (see [`Pigeon::update_state_into`]).
     fn update_state(
         &self,
         satellite: &SatelliteView<'_>,
         broadcast: &Broadcast<'_, PigeonState>,
         context: &LawContext,
     ) -> PigeonState {
+        let mut state = PigeonState::default();
+        self.update_state_into(satellite, broadcast, context, &mut state);
+        state
+    }
+
+    /// Step 2 of Algorithm 1: N_i^1 (hysteresis), N_i^2, V_a,i over the previous N_i, p_h, the pattern
+    /// draw, and the barrier-violation counts, in one walk over the neighbours (V_a,i sums the headings
+    /// in the walk's order), reusing the allocation of `state`.
+    fn update_state_into(
+        &self,
+        satellite: &SatelliteView<'_>,
+        broadcast: &Broadcast<'_, PigeonState>,
+        context: &LawContext,
+        state: &mut PigeonState,
+    ) {
         let p = &self.parameters;
         let previous = broadcast.own();
         let first = previous.updates == 0;
         let id = satellite.id();
         let own = satellite.own_state();
-        let mut egalitarian = Vec::with_capacity(previous.egalitarian.len() + 4);
-        let mut hierarchical_set = Vec::new();
+        let mut links = std::mem::take(&mut state.links);
+        links.clear();
         let mut separation_violations = 0u64;
-        satellite.for_each_neighbour(|nb| {
-            let r = pigeon_plane(&nb.offset_m).norm();
-            let linked = previous.egalitarian.binary_search(&nb.id).is_ok();
-            if switching::egalitarian_link(linked, r, p.egalitarian_range_m, p.link_delay_m) {
-                egalitarian.push(nb.id);
-            }
-            if switching::hierarchical_link(r, p.hierarchical_range_m) {
-                hierarchical_set.push(nb.id);
-            }
-            if r <= p.min_separation_m && nb.id > id {
-                separation_violations += 1;
-            }
-        });
-        egalitarian.sort_unstable();
-        hierarchical_set.sort_unstable();
-        let x_i = pigeon_plane(&own.position_m);
-        let mut clearance_violations = 0u64;
-        satellite.for_each_obstacle(|o| {
-            let r = (x_i - pigeon_plane(&o.center_hill_m)).norm();
-            if r <= o.radius_m + p.min_clearance_m {
-                clearance_violations += 1;
-            }
-        });
         // V_a,i over the previous tick's N_i (N_i^1 at the first tick), with the velocities sensed now.
-        let order_set = if first {
-            &egalitarian
-        } else {
-            &previous.neighbours
-        };
         let mut headings = switching::unit_heading(&pigeon_plane(&own.velocity_mps));
         let mut members = 1usize;
-        satellite.for_each_neighbour(|nb| {
-            if order_set.binary_search(&nb.id).is_ok() {
-                headings += switching::unit_heading(&pigeon_plane(&nb.state.velocity_mps));
-                members += 1;
+        HIERARCHICAL_REST.with_borrow_mut(|rest| {
+            rest.clear();
+            satellite.for_each_neighbour(|nb| {
+                let r = pigeon_plane(&nb.offset_m).norm();
+                let linked = previous.is_egalitarian(nb.id);
+                let egalitarian =
+                    switching::egalitarian_link(linked, r, p.egalitarian_range_m, p.link_delay_m);
+                // Grid ids are 32-bit (see `PigeonState`).
+                let j = nb.id as u32;
+                if egalitarian {
+                    links.push(j);
+                } else if switching::hierarchical_link(r, p.hierarchical_range_m) {
+                    rest.push(j);
+                }
+                if r <= p.min_separation_m && nb.id > id {
+                    separation_violations += 1;
+                }
+                let member = if first {
+                    egalitarian
+                } else {
+                    linked || contains(previous.hierarchical_rest(), nb.id)
+                };
+                if member {
+                    headings += switching::unit_heading(&pigeon_plane(&nb.state.velocity_mps));
+                    members += 1;
+                }
+            });
+            links.sort_unstable();
+            let egalitarian_len = links.len();
+            let local_order = headings.norm() / members as f64;
+            let (probability, hierarchical) = if p.switching {
+                let ph = switching::hierarchical_probability(local_order, p.alpha, p.beta);
+                (ph, context.random().uniform() < ph)
+            } else {
+                (0.0, false)
+            };
+            if hierarchical {
+                rest.sort_unstable();
+                links.extend_from_slice(rest);
             }
+            let x_i = pigeon_plane(&own.position_m);
+            let mut clearance_violations = 0u64;
+            satellite.for_each_obstacle(|o| {
+                let r = (x_i - pigeon_plane(&o.center_hill_m)).norm();
+                if r <= o.radius_m + p.min_clearance_m {
+                    clearance_violations += 1;
+                }
+            });
+            let switched = !first && hierarchical != previous.hierarchical;
+            *state = PigeonState {
+                updates: previous.updates + 1,
+                links,
+                egalitarian_len: egalitarian_len as u32,
+                hierarchical,
+                local_order_parameter: local_order,
+                hierarchical_probability: probability,
+                switches: previous.switches + u64::from(switched),
+                separation_violations: previous.separation_violations + separation_violations,
+                clearance_violations: previous.clearance_violations + clearance_violations,
+            };
         });
-        let local_order = headings.norm() / members as f64;
-        let (probability, hierarchical) = if p.switching {
-            let ph = switching::hierarchical_probability(local_order, p.alpha, p.beta);
-            (ph, context.random().uniform() < ph)
-        } else {
-            (0.0, false)
-        };
-        let switched = !first && hierarchical != previous.hierarchical;
-        let neighbours = if hierarchical {
-            hierarchical_set
-        } else {
-            egalitarian.clone()
-        };
-        PigeonState {
-            updates: previous.updates + 1,
-            egalitarian,
-            neighbours,
-            hierarchical,
-            local_order_parameter: local_order,
-            hierarchical_probability: probability,
-            switches: previous.switches + u64::from(switched),
-            separation_violations: previous.separation_violations + separation_violations,
-            clearance_violations: previous.clearance_violations + clearance_violations,
-        }
     }
 
     /// The saturated thrust f̄, Hill frame \[m/s²\] (`docs/methods/pigeon.md`).

@@ -2,6 +2,11 @@
 //! of every satellite (two buffers: the states of the previous tick, read by every update, and the
 //! states being written), behind one object-safe interface. [`LawParameters`] carries a law's typed
 //! parameter set through the event timeline.
+//!
+//! The state update evaluates the satellites in the sensing grid's storage (cell) order, so that
+//! consecutive updates query overlapping neighbourhoods and find their data in cache, and then places
+//! each new state at its satellite's id; every state is computed on its own from the same inputs, so
+//! the states are bitwise those of the plain id-order update (kept for the tests), on any thread count.
 
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -49,6 +54,7 @@ trait ErasedLaw: Send + Sync {
         swarm: &SwarmView<'_>,
         active: &[bool],
         context: &(dyn Fn(usize) -> LawContext + Sync),
+        in_cell_order: bool,
     );
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError>;
@@ -59,14 +65,16 @@ trait ErasedLaw: Send + Sync {
     fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value>;
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>>;
     fn as_any(&self) -> &dyn Any;
+    fn states_as_any(&self) -> &dyn Any;
 }
 
 /// A law and its per-satellite states.
 struct Stateful<L: GuidanceLaw> {
     law: L,
-    /// States after the last update (read by commands, outputs and the next update).
+    /// States after the last update, by satellite id (read by commands, outputs and the next update).
     current: Vec<L::State>,
-    /// Buffer the next update writes into.
+    /// Buffer the next update writes into (by id, or by grid slot in cell order); it holds outdated
+    /// states whose allocations the law may reuse ([`GuidanceLaw::update_state_into`]).
     next: Vec<L::State>,
 }
 
@@ -110,28 +118,44 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         swarm: &SwarmView<'_>,
         active: &[bool],
         context: &(dyn Fn(usize) -> LawContext + Sync),
+        in_cell_order: bool,
     ) {
         if !self.is_stateful() {
             return; // a memoryless law: nothing to update
         }
-        let law = &self.law;
-        let previous = &self.current;
-        self.next
-            .par_iter_mut()
-            .with_min_len(CHUNK)
-            .enumerate()
-            .for_each(|(i, next)| {
-                *next = if active[i] {
-                    law.update_state(
-                        &swarm.satellite(i),
-                        &Broadcast::new(i, previous),
-                        &context(i),
-                    )
-                } else {
-                    previous[i].clone()
-                };
-            });
-        std::mem::swap(&mut self.current, &mut self.next);
+        let Self { law, current, next } = self;
+        let previous = &*current;
+        let update = |i: usize, out: &mut L::State| {
+            if active[i] {
+                law.update_state_into(
+                    &swarm.satellite(i),
+                    &Broadcast::new(i, previous),
+                    &context(i),
+                    out,
+                );
+            } else {
+                out.clone_from(&previous[i]);
+            }
+        };
+        let grid = swarm.grid;
+        let cells = grid.cell_order();
+        if in_cell_order && cells.len() == next.len() {
+            // `next[s]` receives the new state of the satellite in grid slot `s`...
+            next.par_iter_mut()
+                .zip(cells.par_iter())
+                .with_min_len(CHUNK)
+                .for_each(|(out, &i)| update(i as usize, out));
+            // ...and each goes to its id, leaving the outdated one in the slot for reuse.
+            for (i, state) in current.iter_mut().enumerate() {
+                std::mem::swap(state, &mut next[grid.slot(i)]);
+            }
+        } else {
+            next.par_iter_mut()
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, out)| update(i, out));
+            std::mem::swap(current, next);
+        }
     }
 
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64> {
@@ -183,6 +207,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn as_any(&self) -> &dyn Any {
         &self.law
+    }
+
+    fn states_as_any(&self) -> &dyn Any {
+        &self.current
     }
 }
 
@@ -246,6 +274,15 @@ impl Law {
         self.0.as_any().downcast_ref::<L>()
     }
 
+    /// Every satellite's law state after the last update, by satellite id, if the law is of type `L`
+    /// (empty before the law is initialised).
+    pub fn states<L: GuidanceLaw>(&self) -> Option<&[L::State]> {
+        self.0
+            .states_as_any()
+            .downcast_ref::<Vec<L::State>>()
+            .map(Vec::as_slice)
+    }
+
     /// Writes every satellite's per-satellite outputs into `values` (satellite-major: satellite i's
     /// outputs at `i * k .. (i + 1) * k`, k = the number of output names).
     pub fn write_outputs(&self, values: &mut [f64]) {
@@ -256,13 +293,28 @@ impl Law {
         self.0.initialise(swarm)
     }
 
+    /// Updates every live satellite's state (removed satellites keep theirs), evaluating the satellites
+    /// in the sensing grid's cell order: the same bits as [`Self::update_states_in_id_order`], faster
+    /// on large swarms. Falls back to id order when the grid does not hold every satellite (left empty
+    /// by a non-finite navigation position).
     pub(crate) fn update_states(
         &mut self,
         swarm: &SwarmView<'_>,
         active: &[bool],
         context: &(dyn Fn(usize) -> LawContext + Sync),
     ) {
-        self.0.update_states(swarm, active, context)
+        self.0.update_states(swarm, active, context, true)
+    }
+
+    /// [`Self::update_states`] evaluating the satellites in id order (the plain reference path).
+    #[cfg(test)]
+    pub(crate) fn update_states_in_id_order(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        active: &[bool],
+        context: &(dyn Fn(usize) -> LawContext + Sync),
+    ) {
+        self.0.update_states(swarm, active, context, false)
     }
 
     pub(crate) fn command(
@@ -297,5 +349,198 @@ impl Law {
 impl std::fmt::Debug for Law {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "Law({})", self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::Law;
+    use crate::grid::NeighbourGrid;
+    use crate::guidance::pigeon::{Pigeon, PigeonParameters, PigeonState};
+    use crate::orbit::{EarthModel, RelativeStateHill};
+    use crate::random::{Purpose, RandomStream};
+    use crate::relative::SchweighartSedwick;
+    use crate::swarm::{Actuator, EnvironmentView, LawContext, LimitKind, SharedInfo, SwarmView};
+
+    const RANGE_M: f64 = 60.0;
+    const PERIOD_S: f64 = 0.5;
+
+    /// A random ball of `n` satellites, 250 m radius, moving at up to 1 m/s per axis.
+    fn random_swarm(n: usize) -> Vec<RelativeStateHill> {
+        (0..n)
+            .map(|i| {
+                let mut draw = RandomStream::new(11, Purpose::InitialStates, i as u64, 0);
+                let mut point = || Vector3::from_fn(|_, _| draw.uniform_range(-1.0, 1.0));
+                let direction = point();
+                RelativeStateHill {
+                    position_m: 250.0 * direction / direction.norm().max(1.0),
+                    velocity_mps: point(),
+                }
+            })
+            .collect()
+    }
+
+    fn view<'a>(
+        states: &'a [RelativeStateHill],
+        masses_kg: &'a [f64],
+        active: &'a [bool],
+        links_up: &'a [bool],
+        grid: &'a NeighbourGrid,
+        time_s: f64,
+    ) -> SwarmView<'a> {
+        let earth = EarthModel::WGS84_EGM96;
+        SwarmView {
+            relative_states: states,
+            masses_kg,
+            active,
+            links_up,
+            grid,
+            shared: SharedInfo {
+                time_s,
+                mean_motion_rad_s: earth.mean_motion_rad_s(7.0e6),
+                sensing_range_m: RANGE_M,
+                reference_model: SchweighartSedwick::new(
+                    7.0e6,
+                    0.0,
+                    earth.mu_m3_s2,
+                    earth.equatorial_radius_m,
+                    0.0,
+                ),
+            },
+            environment: EnvironmentView::default(),
+        }
+    }
+
+    fn pigeon() -> Law {
+        Law::new(
+            Pigeon::new(PigeonParameters {
+                egalitarian_range_m: 50.0,
+                hierarchical_range_m: 60.0,
+                link_delay_m: 5.0,
+                desired_separation_m: 30.0,
+                min_separation_m: 10.0,
+                ..PigeonParameters::default()
+            })
+            .unwrap(),
+        )
+    }
+
+    /// Every field equal, the floating-point ones bit for bit.
+    fn assert_same_states(a: &[PigeonState], b: &[PigeonState], what: &str) {
+        assert_eq!(a.len(), b.len());
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            assert_eq!(x, y, "{what}: satellite {i}");
+            assert_eq!(
+                x.local_order_parameter.to_bits(),
+                y.local_order_parameter.to_bits()
+            );
+            assert_eq!(
+                x.hierarchical_probability.to_bits(),
+                y.hierarchical_probability.to_bits()
+            );
+        }
+    }
+
+    /// The cell-order state update gives bitwise the states of the plain id-order update: the pigeon
+    /// law (a heap-backed state rebuilt in place) over a random swarm that moves between ticks (so the
+    /// grid's order changes and the outdated buffers it reuses belong to other satellites), with
+    /// removed and link-cut satellites, six ticks, on 1 and 2 threads.
+    #[test]
+    fn cell_order_state_update_equals_id_order_bitwise() {
+        let n = 2000;
+        let mut states = random_swarm(n);
+        let masses_kg = vec![10.0; n];
+        let active: Vec<bool> = (0..n).map(|i| i % 13 != 5).collect();
+        let links_up: Vec<bool> = (0..n).map(|i| i % 17 != 3).collect();
+        let context = |i: usize, tick: u64| {
+            LawContext::new(
+                tick as f64 * PERIOD_S,
+                tick,
+                PERIOD_S,
+                Actuator::new(5.0, LimitKind::PerAxis),
+                i,
+                7,
+            )
+        };
+        let mut reference = pigeon();
+        let mut laws = [pigeon(), pigeon()];
+        let mut grid = NeighbourGrid::new();
+        let coordinates = |states: &[RelativeStateHill], k: usize| -> Vec<f64> {
+            states.iter().map(|s| s.position_m[k]).collect()
+        };
+        for tick in 0..6u64 {
+            grid.build(
+                &coordinates(&states, 0),
+                &coordinates(&states, 1),
+                &coordinates(&states, 2),
+                RANGE_M,
+            )
+            .unwrap();
+            let time_s = tick as f64 * PERIOD_S;
+            let swarm = view(&states, &masses_kg, &active, &links_up, &grid, time_s);
+            if tick == 0 {
+                reference.initialise(&swarm).unwrap();
+                for law in &mut laws {
+                    law.initialise(&swarm).unwrap();
+                }
+            }
+            reference.update_states_in_id_order(&swarm, &active, &|i| context(i, tick));
+            for (threads, law) in [1, 2].into_iter().zip(&mut laws) {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                pool.install(|| law.update_states(&swarm, &active, &|i| context(i, tick)));
+                assert_same_states(
+                    reference.states::<Pigeon>().unwrap(),
+                    law.states::<Pigeon>().unwrap(),
+                    &format!("tick {tick}, {threads} thread(s)"),
+                );
+            }
+            for s in &mut states {
+                s.position_m += PERIOD_S * 5.0 * s.velocity_mps;
+            }
+        }
+        // The comparison is not vacuous: both patterns occur and most satellites have links.
+        let last = reference.states::<Pigeon>().unwrap();
+        assert!(last.iter().any(|s| s.hierarchical) && last.iter().any(|s| !s.hierarchical));
+        let linked = last.iter().filter(|s| !s.egalitarian().is_empty()).count();
+        assert!(linked > n / 2, "{linked} satellites with links");
+        assert!(last
+            .iter()
+            .any(|s| s.hierarchical && s.neighbours().len() > s.egalitarian().len()));
+    }
+
+    /// With an unbuilt grid (what a non-finite navigation position leaves) the update falls back to id
+    /// order: nobody has neighbours, and the states are still those of the plain path.
+    #[test]
+    fn state_update_without_a_grid_falls_back_to_id_order() {
+        let n = 300;
+        let states = random_swarm(n);
+        let (masses_kg, flags) = (vec![10.0; n], vec![true; n]);
+        let grid = NeighbourGrid::new();
+        let swarm = view(&states, &masses_kg, &flags, &flags, &grid, 0.0);
+        let context = |i: usize| {
+            LawContext::new(
+                0.0,
+                0,
+                PERIOD_S,
+                Actuator::new(5.0, LimitKind::PerAxis),
+                i,
+                7,
+            )
+        };
+        let (mut reference, mut law) = (pigeon(), pigeon());
+        reference.initialise(&swarm).unwrap();
+        law.initialise(&swarm).unwrap();
+        reference.update_states_in_id_order(&swarm, &flags, &context);
+        law.update_states(&swarm, &flags, &context);
+        let updated = law.states::<Pigeon>().unwrap();
+        assert!(updated
+            .iter()
+            .all(|s| s.updates == 1 && s.egalitarian().is_empty()));
+        assert_same_states(reference.states::<Pigeon>().unwrap(), updated, "no grid");
     }
 }

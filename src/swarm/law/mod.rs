@@ -131,6 +131,20 @@ pub trait GuidanceLaw: Send + Sync + 'static {
         broadcast.own().clone()
     }
 
+    /// [`GuidanceLaw::update_state`] written into `state`, which on entry holds an outdated state (of
+    /// this or another satellite) whose allocations the law may reuse: the engine calls this one, so a
+    /// law with heap-backed states can avoid allocating every tick. It must leave exactly the value
+    /// `update_state` returns, whatever `state` held. Default: `*state = self.update_state(..)`.
+    fn update_state_into(
+        &self,
+        satellite: &SatelliteView<'_>,
+        broadcast: &Broadcast<'_, Self::State>,
+        context: &LawContext,
+        state: &mut Self::State,
+    ) {
+        *state = self.update_state(satellite, broadcast, context);
+    }
+
     /// The command of one satellite, Hill frame: an acceleration \[m/s^2\] before actuator limits, or a
     /// velocity \[m/s\] for a kinematic law (see [`GuidanceLaw::command_kind`]).
     fn command(
