@@ -121,6 +121,9 @@ fn spacing_cell_m(x_m: &[f64], y_m: &[f64], z_m: &[f64]) -> Option<f64> {
     cell_m.is_finite().then_some(cell_m)
 }
 
+/// Smallest number of satellites per parallel work item of the tracker's per-satellite passes.
+const PARALLEL_MIN_LEN: usize = 4096;
+
 /// Up to this many candidates a narrow search compares all pairs directly; above it, it builds a grid of
 /// the candidates.
 const DIRECT_PAIRS_UP_TO: usize = 48;
@@ -291,38 +294,50 @@ impl SeparationTracker {
         let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
         let n = ids.len();
         self.displacement_m.resize(n, 0.0);
-        let mut largest_m = 0.0_f64;
-        let mut scale_m = 0.0_f64;
-        for (k, &id) in ids.iter().enumerate() {
-            let Some(anchor) = self.anchors.get(id).filter(|a| !a[3].is_nan()) else {
-                return Ok(None);
-            };
-            let p = [x_m[k], y_m[k], z_m[k]];
-            let (ex, ey, ez) = (p[0] - anchor[0], p[1] - anchor[1], p[2] - anchor[2]);
-            let moved_m = (ex * ex + ey * ey + ez * ez).sqrt();
-            if !moved_m.is_finite() {
-                // A non-finite position: the full search reports it.
-                return Ok(None);
-            }
-            self.displacement_m[k] = moved_m;
-            largest_m = largest_m.max(moved_m);
-            for v in [p[0], p[1], p[2], anchor[0], anchor[1], anchor[2]] {
-                scale_m = scale_m.max(v.abs());
-            }
-        }
+        let anchors = &self.anchors;
+        // Displacements since the anchors, their maximum and the largest coordinate magnitude, in
+        // parallel (maxima: the same values in any order). `None` when a satellite has no anchor or a
+        // position is not finite (the full search then reports it).
+        let Some((largest_m, scale_m)) = self
+            .displacement_m
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(PARALLEL_MIN_LEN)
+            .map(|(k, moved)| {
+                let anchor = anchors.get(ids[k]).filter(|a| !a[3].is_nan())?;
+                let p = [x_m[k], y_m[k], z_m[k]];
+                let (ex, ey, ez) = (p[0] - anchor[0], p[1] - anchor[1], p[2] - anchor[2]);
+                let moved_m = (ex * ex + ey * ey + ez * ez).sqrt();
+                if !moved_m.is_finite() {
+                    return None;
+                }
+                *moved = moved_m;
+                let scale_m = [p[0], p[1], p[2], anchor[0], anchor[1], anchor[2]]
+                    .iter()
+                    .fold(0.0_f64, |scale, v| scale.max(v.abs()));
+                Some((moved_m, scale_m))
+            })
+            .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))
+        else {
+            return Ok(None);
+        };
         if !(upper_m.is_finite() && scale_m.is_finite()) {
             return Ok(None);
         }
         let margin_m = 1e-9 * scale_m;
+        let displacement_m = &self.displacement_m;
         self.candidates.clear();
-        for (k, &id) in ids.iter().enumerate() {
-            let lower_m = self.anchors[id][3] - self.displacement_m[k] - largest_m - margin_m;
-            if lower_m <= upper_m || lower_m < radii_m[k] + a_max {
-                self.candidates.push(k);
-                if self.candidates.len() > n / 4 {
-                    return Ok(None);
-                }
-            }
+        self.candidates.par_extend(
+            (0..n)
+                .into_par_iter()
+                .with_min_len(PARALLEL_MIN_LEN)
+                .filter(|&k| {
+                    let lower_m = anchors[ids[k]][3] - displacement_m[k] - largest_m - margin_m;
+                    lower_m <= upper_m || lower_m < radii_m[k] + a_max
+                }),
+        );
+        if self.candidates.len() > n / 4 {
+            return Ok(None);
         }
         let m = self.candidates.len();
         self.candidate_x.clear();

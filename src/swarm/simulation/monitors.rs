@@ -6,6 +6,9 @@
 use crate::environment::HermiteSegment;
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
 use crate::orbit::RelativeStateHill;
+use rayon::prelude::*;
+
+use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::{Divergence, SimError, Simulation};
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
@@ -115,20 +118,24 @@ pub(super) fn live_separation(
     live: &mut LiveMetrics,
 ) -> (f64, usize) {
     live.ids.clear();
-    live.x.clear();
-    live.y.clear();
-    live.z.clear();
-    live.radii_m.clear();
-    for (i, rel) in relative.iter().enumerate() {
-        if active[i] {
-            let p = rel.position_m;
-            live.ids.push(i);
-            live.x.push(p.x);
-            live.y.push(p.y);
-            live.z.push(p.z);
-            live.radii_m.push(radii_m[i]);
-        }
+    live.ids.extend((0..relative.len()).filter(|&i| active[i]));
+    let m = live.ids.len();
+    for buffer in [&mut live.x, &mut live.y, &mut live.z, &mut live.radii_m] {
+        buffer.resize(m, 0.0);
     }
+    // The live satellites' positions and radii, gathered in parallel (each slot on its own).
+    let ids = &live.ids;
+    live.x
+        .par_iter_mut()
+        .zip(live.y.par_iter_mut())
+        .zip(live.z.par_iter_mut())
+        .zip(live.radii_m.par_iter_mut())
+        .zip(ids.par_iter())
+        .with_min_len(CHUNK)
+        .for_each(|((((x, y), z), radius), &i)| {
+            let p = relative[i].position_m;
+            (*x, *y, *z, *radius) = (p.x, p.y, p.z, radii_m[i]);
+        });
     match live
         .tracker
         .update(&live.ids, &live.x, &live.y, &live.z, &live.radii_m)

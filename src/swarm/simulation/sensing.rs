@@ -170,11 +170,14 @@ impl<'a> Plant<'a> {
                 }),
             None => navigation.copy_from_slice(truth),
         }
-        for (i, rel) in navigation.iter().enumerate() {
-            x[i] = rel.position_m.x;
-            y[i] = rel.position_m.y;
-            z[i] = rel.position_m.z;
-        }
+        x.par_iter_mut()
+            .zip(y.par_iter_mut())
+            .zip(z.par_iter_mut())
+            .zip(navigation.par_iter())
+            .with_min_len(CHUNK)
+            .for_each(|(((x, y), z), rel)| {
+                (*x, *y, *z) = (rel.position_m.x, rel.position_m.y, rel.position_m.z);
+            });
         // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
         // the divergence check after the segment then stops the run and names the satellite.
         if grid.build(x, y, z, self.config.sensing.range_m).is_ok() {
