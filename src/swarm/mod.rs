@@ -5,6 +5,11 @@
 //! commanded accelerations, the actuators limit them, the integrator propagates the truth. A law never
 //! touches the integrator; the integrator never knows which law runs.
 
+/// Smallest number of satellites per parallel work item of the engine's per-satellite passes (rayon's
+/// `with_min_len`; the exact chunk where work is split with `par_chunks`). Results never depend on the
+/// split: every satellite's result is computed on its own and written to its own slot.
+const CHUNK: usize = 256;
+
 mod actuator;
 mod dynamics;
 mod events;

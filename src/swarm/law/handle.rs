@@ -17,10 +17,7 @@ use rayon::prelude::*;
 use super::{
     Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
 };
-
-/// Smallest number of satellites per parallel work item (results never depend on the split: each
-/// satellite's new state is computed on its own).
-const CHUNK: usize = 256;
+use crate::swarm::CHUNK;
 
 /// A typed parameter set for a law, carried by a `set-law-parameters` event. The law it reaches checks
 /// that it is of its own [`GuidanceLaw::Parameters`] type.

@@ -16,10 +16,7 @@ use crate::swarm::law::{
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
 
-/// Smallest number of satellites per parallel work item (rayon's `with_min_len`; the exact chunk where
-/// work is split with `par_chunks`). Results never depend on the split: every satellite's result is
-/// computed on its own and written to its own slot.
-pub(super) const CHUNK: usize = 256;
+pub(super) use crate::swarm::CHUNK;
 
 /// Per-satellite properties that change only through events, as structure-of-arrays.
 pub(super) struct Fleet {
