@@ -38,6 +38,7 @@
 
 use std::ops::Range;
 
+use rayon::prelude::*;
 use thiserror::Error;
 
 /// Relative margin added to the cell edge: `cell = radius * (1 + CELL_MARGIN)`.
@@ -51,6 +52,9 @@ const CELL_MARGIN: f64 = 1e-6;
 /// cells away (Chebyshev distance in cell coordinates) is at least `k · cell · GAP_FACTOR` away. The
 /// 1e-8 slack covers the ≤ 3e-9-cell rounding error of two cell coordinates (see [`CELL_MARGIN`]).
 const GAP_FACTOR: f64 = 1.0 - 1e-8;
+
+/// Smallest number of satellites per parallel work item of a build (the answers never depend on it).
+const PARALLEL_MIN_LEN: usize = 8192;
 
 /// Candidates whose squared distances a fixed-radius query computes in one branch-free batch.
 const SCAN_BATCH: usize = 64;
@@ -219,23 +223,41 @@ impl NeighbourGrid {
         if n > MAX_POINTS {
             return Err(NeighbourError::TooManyPoints { n, max: MAX_POINTS });
         }
-        let mut lo = [f64::INFINITY; 3];
-        let mut hi = [f64::NEG_INFINITY; 3];
-        for i in 0..n {
-            let p = [x_m[i], y_m[i], z_m[i]];
-            if !p.iter().all(|v| v.is_finite()) {
-                return Err(NeighbourError::NonFinitePosition {
-                    index: i,
-                    x_m: p[0],
-                    y_m: p[1],
-                    z_m: p[2],
-                });
-            }
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
+        if let Some(i) = (0..n)
+            .into_par_iter()
+            .with_min_len(PARALLEL_MIN_LEN)
+            .position_first(|i| !(x_m[i].is_finite() && y_m[i].is_finite() && z_m[i].is_finite()))
+        {
+            return Err(NeighbourError::NonFinitePosition {
+                index: i,
+                x_m: x_m[i],
+                y_m: y_m[i],
+                z_m: z_m[i],
+            });
         }
+        // The bounding box (minima and maxima: the same values whatever the split).
+        let (mut lo, mut hi) = (0..n)
+            .into_par_iter()
+            .with_min_len(PARALLEL_MIN_LEN)
+            .fold(
+                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(mut lo, mut hi), i| {
+                    for (a, v) in [x_m[i], y_m[i], z_m[i]].into_iter().enumerate() {
+                        lo[a] = lo[a].min(v);
+                        hi[a] = hi[a].max(v);
+                    }
+                    (lo, hi)
+                },
+            )
+            .reduce(
+                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(lo_a, hi_a), (lo_b, hi_b)| {
+                    (
+                        [0, 1, 2].map(|a| lo_a[a].min(lo_b[a])),
+                        [0, 1, 2].map(|a| hi_a[a].max(hi_b[a])),
+                    )
+                },
+            );
         if n == 0 {
             lo = [0.0; 3];
             hi = [0.0; 3];
@@ -269,12 +291,18 @@ impl NeighbourGrid {
         self.ys.resize(n, 0.0);
         self.zs.resize(n, 0.0);
         self.slot_of.resize(n, 0);
+        self.xs
+            .par_iter_mut()
+            .zip(self.ys.par_iter_mut())
+            .zip(self.zs.par_iter_mut())
+            .zip(self.items.par_iter())
+            .with_min_len(PARALLEL_MIN_LEN)
+            .for_each(|(((x, y), z), &i)| {
+                let i = i as usize;
+                (*x, *y, *z) = (x_m[i], y_m[i], z_m[i]);
+            });
         for (slot, &i) in self.items.iter().enumerate() {
-            let i = i as usize;
-            self.xs[slot] = x_m[i];
-            self.ys[slot] = y_m[i];
-            self.zs[slot] = z_m[i];
-            self.slot_of[i] = slot as u32;
+            self.slot_of[i as usize] = slot as u32;
         }
         Ok(())
     }
@@ -283,12 +311,19 @@ impl NeighbourGrid {
     fn sort_dense(&mut self, x_m: &[f64], y_m: &[f64], z_m: &[f64], cells: usize) {
         self.cell_start.clear();
         self.cell_start.resize(cells + 1, 0);
-        self.scratch_cell.clear();
-        for i in 0..x_m.len() {
-            let c = self.key(self.cell_of([x_m[i], y_m[i], z_m[i]])) as usize;
-            self.scratch_cell.push(c as u32);
-            self.cell_start[c + 1] += 1;
+        // Every satellite's cell in parallel (each on its own), then the serial counting sort.
+        let mut cell_of_point = std::mem::take(&mut self.scratch_cell);
+        cell_of_point.resize(x_m.len(), 0);
+        let grid = &*self;
+        cell_of_point
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(PARALLEL_MIN_LEN)
+            .for_each(|(i, cell)| *cell = grid.key(grid.cell_of([x_m[i], y_m[i], z_m[i]])) as u32);
+        for &c in &cell_of_point {
+            self.cell_start[c as usize + 1] += 1;
         }
+        self.scratch_cell = cell_of_point;
         self.occupied = self.cell_start[1..].iter().filter(|&&k| k > 0).count();
         for k in 1..=cells {
             self.cell_start[k] += self.cell_start[k - 1];

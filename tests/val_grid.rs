@@ -328,3 +328,53 @@ proptest! {
         prop_assert_eq!(grid_within(&g, 0, None), brute_within(&x, &y, &z, 0, r));
     }
 }
+
+/// A build large enough to split across threads (tens of thousands of satellites) stores the same order
+/// and answers the same neighbours on 1 and 4 threads, equal to brute force for a sample of satellites;
+/// the first non-finite position is the one reported, whatever the split.
+#[test]
+fn val_large_build_is_the_same_on_any_thread_count() {
+    let n = 40_000;
+    let (x, y, z) = swarm(11, n, 1);
+    let r = radius_for(1, 0.4);
+    let build = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut g = NeighbourGrid::new();
+            g.build(&x, &y, &z, r).unwrap();
+            g
+        })
+    };
+    let (one, four) = (build(1), build(4));
+    assert_eq!(one.cell_order(), four.cell_order());
+    assert_eq!(one.layout(), four.layout());
+    let mut found = 0;
+    for i in (0..n).step_by(397) {
+        let expected = brute_within(&x, &y, &z, i, r);
+        assert_eq!(grid_within(&one, i, None), expected);
+        assert_eq!(grid_within(&four, i, None), expected);
+        found += expected.len();
+    }
+    assert!(found > 50, "too few neighbours to test: {found}");
+
+    let mut bad_x = x.clone();
+    bad_x[30_000] = f64::NAN;
+    bad_x[35_000] = f64::INFINITY;
+    for threads in [1, 4] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let error = pool.install(|| NeighbourGrid::new().build(&bad_x, &y, &z, r).unwrap_err());
+        assert!(
+            matches!(
+                error,
+                NeighbourError::NonFinitePosition { index: 30_000, .. }
+            ),
+            "{error:?}"
+        );
+    }
+}
