@@ -167,12 +167,7 @@ impl Scenario {
             file: source.to_string(),
             message: parse_error_message(text, &e),
         })?;
-        Ok(Self {
-            file,
-            source: source.to_string(),
-            base_dir: base_dir.to_path_buf(),
-            controller: None,
-        })
+        Ok(Self::of_file(file, source, base_dir))
     }
 
     /// A scenario from its TOML table (as edited by dotted-key overrides): keys and types are checked, not
@@ -190,12 +185,17 @@ impl Scenario {
                     file: source.to_string(),
                     message: e.message().trim_end().to_string(),
                 })?;
-        Ok(Self {
+        Ok(Self::of_file(file, source, base_dir))
+    }
+
+    /// The scenario of a parsed file named `source`, relative paths resolved from `base_dir`.
+    fn of_file(file: ScenarioFile, source: &str, base_dir: &Path) -> Self {
+        Self {
             file,
             source: source.to_string(),
             base_dir: base_dir.to_path_buf(),
             controller: None,
-        })
+        }
     }
 
     /// Loads a scenario file from a path.
