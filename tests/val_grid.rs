@@ -299,7 +299,7 @@ proptest! {
     ) {
         let (x, y, z) = swarm(seed, n, mode);
         let r = radius_for(mode, factor);
-        let visible = |i: usize| (i * 7 + seed as usize % 5) % hidden_every != 0 || hidden_every == 1;
+        let visible = |i: usize| !(i * 7 + seed as usize % 5).is_multiple_of(hidden_every) || hidden_every == 1;
         let mut g = NeighbourGrid::new();
         g.build(&x, &y, &z, r).unwrap();
         prop_assert!(!g.is_masked());

@@ -477,11 +477,9 @@ impl Bifurcating {
             return force;
         }
         let id = satellite.id();
-        satellite.for_each_neighbour(|nb| {
+        // Only the neighbours within s (<= the sensing range, checked when the law starts) push.
+        satellite.for_each_neighbour_within(s, |nb| {
             let d = nb.distance_m;
-            if d > s {
-                return;
-            }
             if d > 0.0 {
                 // k_c (s − d) (q_i − q_j)/d, with q_i − q_j = −offset.
                 force -= nb.offset_m * (p.k_c_kg_per_s2 * (s - d) / d);

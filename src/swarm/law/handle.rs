@@ -351,64 +351,13 @@ impl std::fmt::Debug for Law {
 
 #[cfg(test)]
 mod tests {
-    use nalgebra::Vector3;
-
     use super::Law;
     use crate::grid::NeighbourGrid;
     use crate::guidance::pigeon::{Pigeon, PigeonParameters, PigeonState};
-    use crate::orbit::{EarthModel, RelativeStateHill};
-    use crate::random::{Purpose, RandomStream};
-    use crate::relative::SchweighartSedwick;
-    use crate::swarm::{Actuator, EnvironmentView, LawContext, LimitKind, SharedInfo, SwarmView};
+    use crate::swarm::law::test_swarm::{grid_of, random_swarm, view};
+    use crate::swarm::{Actuator, LawContext, LimitKind};
 
-    const RANGE_M: f64 = 60.0;
     const PERIOD_S: f64 = 0.5;
-
-    /// A random ball of `n` satellites, 250 m radius, moving at up to 1 m/s per axis.
-    fn random_swarm(n: usize) -> Vec<RelativeStateHill> {
-        (0..n)
-            .map(|i| {
-                let mut draw = RandomStream::new(11, Purpose::InitialStates, i as u64, 0);
-                let mut point = || Vector3::from_fn(|_, _| draw.uniform_range(-1.0, 1.0));
-                let direction = point();
-                RelativeStateHill {
-                    position_m: 250.0 * direction / direction.norm().max(1.0),
-                    velocity_mps: point(),
-                }
-            })
-            .collect()
-    }
-
-    fn view<'a>(
-        states: &'a [RelativeStateHill],
-        masses_kg: &'a [f64],
-        active: &'a [bool],
-        links_up: &'a [bool],
-        grid: &'a NeighbourGrid,
-        time_s: f64,
-    ) -> SwarmView<'a> {
-        let earth = EarthModel::WGS84_EGM96;
-        SwarmView {
-            relative_states: states,
-            masses_kg,
-            active,
-            links_up,
-            grid,
-            shared: SharedInfo {
-                time_s,
-                mean_motion_rad_s: earth.mean_motion_rad_s(7.0e6),
-                sensing_range_m: RANGE_M,
-                reference_model: SchweighartSedwick::new(
-                    7.0e6,
-                    0.0,
-                    earth.mu_m3_s2,
-                    earth.equatorial_radius_m,
-                    0.0,
-                ),
-            },
-            environment: EnvironmentView::default(),
-        }
-    }
 
     fn pigeon() -> Law {
         Law::new(
@@ -463,18 +412,8 @@ mod tests {
         };
         let mut reference = pigeon();
         let mut laws = [pigeon(), pigeon()];
-        let mut grid = NeighbourGrid::new();
-        let coordinates = |states: &[RelativeStateHill], k: usize| -> Vec<f64> {
-            states.iter().map(|s| s.position_m[k]).collect()
-        };
         for tick in 0..6u64 {
-            grid.build(
-                &coordinates(&states, 0),
-                &coordinates(&states, 1),
-                &coordinates(&states, 2),
-                RANGE_M,
-            )
-            .unwrap();
+            let grid = grid_of(&states);
             let time_s = tick as f64 * PERIOD_S;
             let swarm = view(&states, &masses_kg, &active, &links_up, &grid, time_s);
             if tick == 0 {

@@ -23,6 +23,8 @@
 
 mod context;
 mod handle;
+#[cfg(test)]
+mod test_swarm;
 mod view;
 
 use std::collections::BTreeMap;

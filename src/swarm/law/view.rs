@@ -256,7 +256,15 @@ impl SatelliteView<'_> {
     /// Visits every live, linked neighbour within sensing range, in a deterministic order.
     /// A satellite whose own links are cut sees nobody; nor does anyone while the grid is empty (a
     /// non-finite navigation position left it unbuilt; the divergence check then stops the run).
-    pub fn for_each_neighbour(&self, mut visit: impl FnMut(&Neighbour)) {
+    pub fn for_each_neighbour(&self, visit: impl FnMut(&Neighbour)) {
+        self.for_each_neighbour_within(self.swarm.grid.radius_m(), visit);
+    }
+
+    /// [`Self::for_each_neighbour`] restricted to the neighbours within `reach_m` \[m\] (capped at the
+    /// sensing range, the radius of the view's grid): the same neighbours, in the same order, as filtering that walk by
+    /// `distance_m <= reach_m`, but a reach well below the sensing range lets the grid skip whole
+    /// cells. For a law whose neighbour terms vanish beyond a radius of its own.
+    pub fn for_each_neighbour_within(&self, reach_m: f64, mut visit: impl FnMut(&Neighbour)) {
         let s = &self.swarm;
         let links_up = self
             .own
@@ -264,6 +272,7 @@ impl SatelliteView<'_> {
         if !links_up || self.id >= s.grid.len() {
             return;
         }
+        let reach_m = reach_m.min(s.grid.radius_m());
         let mut report = |nb: crate::grid::Neighbour| {
             visit(&Neighbour {
                 id: nb.index,
@@ -276,11 +285,11 @@ impl SatelliteView<'_> {
             // The engine's grid hides removed and unlinked satellites itself: no per-neighbour lookup
             // of the flags (by id, so scattered in memory).
             match &self.own {
-                Some(own) => s.grid.for_each_neighbour_of_slot(own.slot, report),
-                None => s.grid.for_each_neighbour(self.id, report),
+                Some(own) => s.grid.for_each_within_slot(own.slot, reach_m, report),
+                None => s.grid.for_each_within(self.id, reach_m, report),
             }
         } else {
-            s.grid.for_each_neighbour(self.id, |nb| {
+            s.grid.for_each_within(self.id, reach_m, |nb| {
                 if s.active[nb.index] && s.links_up[nb.index] {
                     report(nb);
                 }
@@ -400,5 +409,56 @@ impl<'a, S> Broadcast<'a, S> {
     /// What `neighbour` broadcast at the previous tick.
     pub fn of(&self, neighbour: &Neighbour) -> &'a S {
         &self.previous[neighbour.id]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OwnSample;
+    use crate::swarm::law::test_swarm::{grid_of, random_swarm, view, RANGE_M};
+
+    /// A walk within a reach below the sensing range visits exactly the neighbours of the full walk
+    /// within that reach, in the same order, with the same values: through the id and the own-sample
+    /// paths, on masked and unmasked grids, with removed and link-cut satellites; a reach above the
+    /// sensing range is capped at it.
+    #[test]
+    fn walk_within_a_reach_is_the_full_walk_filtered_by_distance() {
+        let n = 1500;
+        let states = random_swarm(n);
+        let masses_kg = vec![10.0; n];
+        let active: Vec<bool> = (0..n).map(|i| i % 11 != 4).collect();
+        let links_up: Vec<bool> = (0..n).map(|i| i % 7 != 2).collect();
+        let mut visited = 0;
+        for masked in [false, true] {
+            let mut grid = grid_of(&states);
+            if masked {
+                grid.mask(|i| active[i] && links_up[i]);
+            }
+            let swarm = view(&states, &masses_kg, &active, &links_up, &grid, 0.0);
+            for i in 0..n {
+                let mut by_id = Vec::new();
+                swarm.satellite(i).for_each_neighbour(|nb| by_id.push(*nb));
+                for satellite in [
+                    swarm.satellite(i),
+                    swarm.satellite_with(OwnSample::of(&swarm, i, grid.slot(i))),
+                ] {
+                    let mut full = Vec::new();
+                    satellite.for_each_neighbour(|nb| full.push(*nb));
+                    assert_eq!(full, by_id, "satellite {i}");
+                    for reach in [0.0, 0.1 * RANGE_M, 0.45 * RANGE_M, RANGE_M, 3.0 * RANGE_M] {
+                        let mut within = Vec::new();
+                        satellite.for_each_neighbour_within(reach, |nb| within.push(*nb));
+                        let expected: Vec<_> = full
+                            .iter()
+                            .filter(|nb| nb.distance_m <= reach)
+                            .copied()
+                            .collect();
+                        assert_eq!(within, expected, "satellite {i}, reach {reach} m");
+                        visited += within.len();
+                    }
+                }
+            }
+        }
+        assert!(visited > 50_000, "too few neighbours to test: {visited}");
     }
 }

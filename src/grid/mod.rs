@@ -36,7 +36,11 @@
 //! would be larger than the swarm (a reach far beyond the cell size), the query scans all satellites in
 //! storage order instead (storage order is the cell order above).
 
+mod prefilter;
+
 use std::ops::Range;
+
+use prefilter::Prefilter;
 
 use rayon::prelude::*;
 use thiserror::Error;
@@ -52,6 +56,12 @@ const CELL_MARGIN: f64 = 1e-6;
 /// cells away (Chebyshev distance in cell coordinates) is at least `k · cell · GAP_FACTOR` away. The
 /// 1e-8 slack covers the ≤ 3e-9-cell rounding error of two cell coordinates (see [`CELL_MARGIN`]).
 const GAP_FACTOR: f64 = 1.0 - 1e-8;
+
+/// Margin (in cells) by which a query widens the box `[p − reach, p + reach]` before it keeps only the
+/// cells that box meets along each axis: far above the ≤ 3e-9-cell rounding of two cell coordinates
+/// (see [`CELL_MARGIN`]) and of the squared-distance test, so no cell holding a satellite within the
+/// reach is ever dropped.
+const BOX_MARGIN_CELLS: f64 = 1e-6;
 
 /// Smallest number of satellites per parallel work item of a build (the answers never depend on it).
 const PARALLEL_MIN_LEN: usize = 8192;
@@ -182,6 +192,8 @@ pub struct NeighbourGrid {
     masked: bool,
     /// Per storage slot: hidden by the mask. Empty when nothing is hidden.
     hidden: Vec<bool>,
+    /// The copy of the squared-distance prefilter queries run (the fastest this CPU has).
+    prefilter: Prefilter,
 }
 
 impl NeighbourGrid {
@@ -481,17 +493,17 @@ impl NeighbourGrid {
         self.for_each_within_slot(self.slot_of[i] as usize, reach_m, visit);
     }
 
-    /// [`Self::for_each_neighbour`] of the satellite stored in slot `si` (its position in
+    /// [`Self::for_each_within`] of the satellite stored in slot `si` (its position in
     /// [`Self::cell_order`]): for callers walking the satellites in storage order.
     ///
     /// # Panics
     /// If `si >= self.len()`.
-    pub(crate) fn for_each_neighbour_of_slot(&self, si: usize, visit: impl FnMut(Neighbour)) {
-        self.for_each_within_slot(si, self.radius_m, visit);
-    }
-
-    /// [`Self::for_each_within`] of the satellite stored in slot `si`.
-    fn for_each_within_slot(&self, si: usize, reach_m: f64, mut visit: impl FnMut(Neighbour)) {
+    pub(crate) fn for_each_within_slot(
+        &self,
+        si: usize,
+        reach_m: f64,
+        mut visit: impl FnMut(Neighbour),
+    ) {
         if reach_m.is_nan() || reach_m < 0.0 {
             return;
         }
@@ -514,17 +526,14 @@ impl NeighbourGrid {
             let mut start = slots.start;
             while start < slots.end {
                 let end = (start + SCAN_BATCH).min(slots.end);
-                let (xs, ys, zs) = (
+                let count = self.prefilter.passing(
                     &self.xs[start..end],
                     &self.ys[start..end],
                     &self.zs[start..end],
+                    p,
+                    reach2,
+                    &mut passed,
                 );
-                let mut count = 0;
-                for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
-                    let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
-                    passed[count] = offset as u32;
-                    count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
-                }
                 for &offset in &passed[..count] {
                     let s = start + offset as usize;
                     let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
@@ -545,9 +554,11 @@ impl NeighbourGrid {
         if self.block_cells(c, k) > self.brute_force_threshold() {
             scan(0..self.len());
         } else {
-            let (x_lo, x_hi) = self.span(c, k, 0);
-            let (y_lo, y_hi) = self.span(c, k, 1);
-            let (z_lo, z_hi) = self.span(c, k, 2);
+            // Only the cells the box [p − reach, p + reach] meets: all 3 × 3 × 3 for a reach of the
+            // radius, often the satellite's own cell alone for a reach well below it.
+            let (x_lo, x_hi) = self.reach_span(c, k, p, reach_m, 0);
+            let (y_lo, y_hi) = self.reach_span(c, k, p, reach_m, 1);
+            let (z_lo, z_hi) = self.reach_span(c, k, p, reach_m, 2);
             for z in z_lo..=z_hi {
                 for y in y_lo..=y_hi {
                     scan(self.row(y, z, x_lo, x_hi));
@@ -641,6 +652,18 @@ impl NeighbourGrid {
             c[a].saturating_sub(k),
             c[a].saturating_add(k).min(self.dims[a] - 1),
         )
+    }
+
+    /// [`Self::span`] narrowed to the cells that the interval `[p − reach, p + reach]` (widened by
+    /// [`BOX_MARGIN_CELLS`]) meets along axis `a`: dropping whole cells, never a satellite within the
+    /// reach, so a query visits the same satellites in the same order.
+    fn reach_span(&self, c: [u64; 3], k: u64, p: [f64; 3], reach_m: f64, a: usize) -> (u64, u64) {
+        let (lo, hi) = self.span(c, k, a);
+        let u = (p[a] - self.origin_m[a]) * self.inv_cell;
+        let r = reach_m * self.inv_cell + BOX_MARGIN_CELLS;
+        // Casts truncate (floor for non-negative values) and saturate (negative -> 0).
+        let (box_lo, box_hi) = ((u - r) as u64, (u + r) as u64);
+        (lo.max(box_lo.min(c[a])), hi.min(box_hi.max(c[a])))
     }
 
     /// Number of grid cells in the clamped block of half-width `k` around cell `c`.
@@ -760,7 +783,8 @@ mod tests {
     }
 
     /// The batched scan changes neither the answers nor their order: it equals the plain slot-by-slot
-    /// walk of the block, neighbour by neighbour, on dense and sparse layouts, at ECI-sized offsets, on
+    /// walk of the block, neighbour by neighbour, with either copy of the prefilter, on dense and sparse
+    /// layouts, at ECI-sized offsets, on
     /// a lattice with many pairs exactly at the reach, for reaches from a fraction of a cell to several
     /// cells (and the all-satellite scan when the block outgrows the swarm).
     #[test]
@@ -793,21 +817,30 @@ mod tests {
             }
             let radius = spread / 12.0;
             g.build(&x, &y, &z, radius).unwrap();
-            for reach in [0.3 * radius, radius, 1.7 * radius, 3.0 * radius] {
+            for reach in [
+                0.05 * radius,
+                0.3 * radius,
+                radius,
+                1.7 * radius,
+                3.0 * radius,
+            ] {
                 let reach = if lattice {
                     reach.round().max(1.0)
                 } else {
                     reach
                 };
-                for i in 0..n {
-                    let mut batched = Vec::new();
-                    g.for_each_within(i, reach, |nb| batched.push(nb));
-                    assert_eq!(
-                        batched,
-                        plain_within(&g, i, reach),
-                        "satellite {i}, reach {reach}"
-                    );
-                    visited += batched.len();
+                for prefilter in prefilter::tests::copies() {
+                    g.prefilter = prefilter;
+                    for i in 0..n {
+                        let mut batched = Vec::new();
+                        g.for_each_within(i, reach, |nb| batched.push(nb));
+                        assert_eq!(
+                            batched,
+                            plain_within(&g, i, reach),
+                            "satellite {i}, reach {reach}, {prefilter:?}"
+                        );
+                        visited += batched.len();
+                    }
                 }
             }
         }

@@ -1,0 +1,215 @@
+//! The squared-distance prefilter of a fixed-radius grid query: which of a batch of up to
+//! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Two copies that give the same
+//! answers: a portable branch-free loop (one candidate per iteration) and, on x86-64 CPUs with
+//! AVX-512F and AVX-512VL (detected at run time), eight candidates per instruction with their passing
+//! offsets compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
+//! same order (no fused multiply-add), so they pass exactly the same candidates.
+
+use super::SCAN_BATCH;
+
+/// Which copy of the prefilter a grid runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Prefilter {
+    /// The portable loop (any CPU).
+    Portable,
+    /// AVX-512F + AVX-512VL, eight candidates at a time (x86-64 only; falls back to the portable loop
+    /// on a CPU without them).
+    Avx512,
+}
+
+impl Default for Prefilter {
+    /// The fastest copy this CPU runs.
+    fn default() -> Self {
+        if avx512_available() {
+            Prefilter::Avx512
+        } else {
+            Prefilter::Portable
+        }
+    }
+}
+
+/// Whether this CPU runs the AVX-512 copy.
+pub(crate) fn avx512_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+impl Prefilter {
+    /// Writes to the front of `passed`, ascending, the offsets `o` of the candidates
+    /// `(xs[o], ys[o], zs[o])` (m) whose squared distance from `p` is at most `reach2` (m²), and
+    /// returns how many there are. The three slices have one length, at most [`SCAN_BATCH`].
+    ///
+    /// # Panics
+    /// If the slices differ in length or are longer than [`SCAN_BATCH`].
+    #[allow(unsafe_code)]
+    #[inline]
+    pub(crate) fn passing(
+        self,
+        xs: &[f64],
+        ys: &[f64],
+        zs: &[f64],
+        p: [f64; 3],
+        reach2: f64,
+        passed: &mut [u32; SCAN_BATCH],
+    ) -> usize {
+        let n = xs.len();
+        assert!(ys.len() == n && zs.len() == n && n <= SCAN_BATCH);
+        #[cfg(target_arch = "x86_64")]
+        if self == Prefilter::Avx512 && avx512_available() {
+            // SAFETY: the CPU has AVX-512F and AVX-512VL (checked on the line above), the only
+            // features the function enables; the lengths were checked above.
+            return unsafe { passing_avx512(xs, ys, zs, p, reach2, passed) };
+        }
+        passing_portable(xs, ys, zs, p, reach2, passed)
+    }
+}
+
+/// The portable copy: each candidate's offset is written, and the count advances only when it passes
+/// (no branch: most candidates fail, unpredictably).
+fn passing_portable(
+    xs: &[f64],
+    ys: &[f64],
+    zs: &[f64],
+    p: [f64; 3],
+    reach2: f64,
+    passed: &mut [u32; SCAN_BATCH],
+) -> usize {
+    let mut count = 0;
+    for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
+        let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
+        passed[count] = offset as u32;
+        count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
+    }
+    count
+}
+
+/// The AVX-512 copy: eight candidates per step (the last step masked), the passing lanes' offsets
+/// compressed to the front of a 256-bit register and stored at the current count.
+///
+/// # Safety
+/// The CPU must have AVX-512F and AVX-512VL; the three slices must have one length, at most
+/// [`SCAN_BATCH`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl")]
+#[allow(unsafe_code)]
+unsafe fn passing_avx512(
+    xs: &[f64],
+    ys: &[f64],
+    zs: &[f64],
+    p: [f64; 3],
+    reach2: f64,
+    passed: &mut [u32; SCAN_BATCH],
+) -> usize {
+    use std::arch::x86_64::*;
+    let n = xs.len();
+    let (px, py, pz) = (
+        _mm512_set1_pd(p[0]),
+        _mm512_set1_pd(p[1]),
+        _mm512_set1_pd(p[2]),
+    );
+    let r2 = _mm512_set1_pd(reach2);
+    let mut offsets = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    let eight = _mm256_set1_epi32(8);
+    let mut count = 0usize;
+    let mut start = 0usize;
+    while start < n {
+        let lanes = (n - start).min(8);
+        let live: __mmask8 = (0xffu16 >> (8 - lanes)) as u8;
+        // SAFETY: the masked loads touch only lanes start..start + lanes, inside the slices (equal
+        // lengths, checked by the caller).
+        let (x, y, z) = unsafe {
+            (
+                _mm512_maskz_loadu_pd(live, xs.as_ptr().add(start)),
+                _mm512_maskz_loadu_pd(live, ys.as_ptr().add(start)),
+                _mm512_maskz_loadu_pd(live, zs.as_ptr().add(start)),
+            )
+        };
+        let (dx, dy, dz) = (
+            _mm512_sub_pd(x, px),
+            _mm512_sub_pd(y, py),
+            _mm512_sub_pd(z, pz),
+        );
+        // (dx² + dy²) + dz², as the portable copy sums.
+        let d2 = _mm512_add_pd(
+            _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
+            _mm512_mul_pd(dz, dz),
+        );
+        let pass = _mm512_mask_cmp_pd_mask::<_CMP_LE_OQ>(live, d2, r2);
+        // SAFETY: `start` is a multiple of 8 below n <= SCAN_BATCH (a multiple of 8), so
+        // count <= start <= SCAN_BATCH - 8 and the eight stored u32 fit in `passed`.
+        unsafe {
+            _mm256_storeu_si256(
+                passed.as_mut_ptr().add(count).cast::<__m256i>(),
+                _mm256_maskz_compress_epi32(pass, offsets),
+            );
+        }
+        count += pass.count_ones() as usize;
+        offsets = _mm256_add_epi32(offsets, eight);
+        start += 8;
+    }
+    count
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+
+    /// Every copy of the prefilter this CPU runs.
+    pub(in crate::grid) fn copies() -> Vec<Prefilter> {
+        let mut copies = vec![Prefilter::Portable];
+        if avx512_available() {
+            copies.push(Prefilter::Avx512);
+        }
+        copies
+    }
+
+    /// Both copies pass exactly the candidates a plain `<=` test on the squared distance passes, in
+    /// ascending order, for every batch length from 0 to SCAN_BATCH and candidates exactly at the reach.
+    #[test]
+    fn both_copies_pass_what_the_plain_test_passes() {
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let p = [1.5, -2.0, 0.25];
+        let reach2 = 1.0;
+        for n in 0..=SCAN_BATCH {
+            let mut xs = Vec::new();
+            let (mut ys, mut zs) = (Vec::new(), Vec::new());
+            for k in 0..n {
+                if k % 5 == 0 {
+                    // Exactly at the reach along one axis.
+                    xs.push(p[0] + 1.0);
+                    ys.push(p[1]);
+                    zs.push(p[2]);
+                } else {
+                    xs.push(p[0] + 3.0 * uniform() - 1.5);
+                    ys.push(p[1] + 3.0 * uniform() - 1.5);
+                    zs.push(p[2] + 3.0 * uniform() - 1.5);
+                }
+            }
+            let expected: Vec<u32> = (0..n)
+                .filter(|&o| {
+                    let (dx, dy, dz) = (xs[o] - p[0], ys[o] - p[1], zs[o] - p[2]);
+                    dx * dx + dy * dy + dz * dz <= reach2
+                })
+                .map(|o| o as u32)
+                .collect();
+            for copy in copies() {
+                let mut passed = [u32::MAX; SCAN_BATCH];
+                let count = copy.passing(&xs, &ys, &zs, p, reach2, &mut passed);
+                assert_eq!(&passed[..count], &expected[..], "{copy:?}, n = {n}");
+            }
+        }
+    }
+}
