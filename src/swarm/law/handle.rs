@@ -7,6 +7,10 @@
 //! consecutive updates query overlapping neighbourhoods and find their data in cache, and then places
 //! each new state at its satellite's id; every state is computed on its own from the same inputs, so
 //! the states are bitwise those of the plain id-order update (kept for the tests), on any thread count.
+//!
+//! When a tick both updates the states and evaluates the commands (sampled control), the two run in
+//! one pass ([`Law::update_states_and_commands`]): each satellite's grid walk is collected once and
+//! replayed to the update and the command, with the bits of the two separate passes.
 
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -15,9 +19,33 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::{
-    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, Neighbour, OwnSample, SatelliteView,
+    SwarmFacts, SwarmView,
 };
-use crate::swarm::CHUNK;
+use crate::swarm::{Actuator, CHUNK};
+
+/// Satellites whose own data a pass copies out together before evaluating them (loads by id, scattered
+/// in memory on a large swarm, issued back to back so they overlap).
+pub(crate) const OWN_BATCH: usize = 16;
+
+thread_local! {
+    /// Per-thread buffer of the satellite's collected neighbour walk in the fused pass (so the pass
+    /// never allocates once the buffers have grown).
+    static SENSED: std::cell::RefCell<Vec<Neighbour>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// What the engine supplies to the fused state-and-command pass of one tick
+/// ([`Law::update_states_and_commands`]).
+pub(crate) trait TickEvaluation: Sync {
+    /// Satellite `id`'s own data (its grid slot is `slot`) and actuator; `None` for a removed satellite.
+    fn own(&self, swarm: &SwarmView<'_>, id: usize, slot: usize) -> Option<(OwnSample, Actuator)>;
+    /// The context of satellite `id`'s state update.
+    fn update_context(&self, id: usize, actuator: Actuator) -> LawContext;
+    /// The context of satellite `id`'s command.
+    fn command_context(&self, id: usize, actuator: Actuator) -> LawContext;
+    /// The applied command of a law's command through the satellite's actuator.
+    fn applied(&self, actuator: Actuator, command: Vector3<f64>) -> Vector3<f64>;
+}
 
 /// A typed parameter set for a law, carried by a `set-law-parameters` event. The law it reaches checks
 /// that it is of its own [`GuidanceLaw::Parameters`] type.
@@ -53,6 +81,12 @@ trait ErasedLaw: Send + Sync {
         context: &(dyn Fn(usize) -> LawContext + Sync),
         in_cell_order: bool,
     );
+    fn update_states_and_commands(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        tick: &dyn TickEvaluation,
+        applied_by_slot: &mut [Vector3<f64>],
+    ) -> bool;
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError>;
     fn write_outputs(&self, values: &mut [f64]);
@@ -153,6 +187,68 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                 .for_each(|(i, out)| update(i, out));
             std::mem::swap(current, next);
         }
+    }
+
+    fn update_states_and_commands(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        tick: &dyn TickEvaluation,
+        applied_by_slot: &mut [Vector3<f64>],
+    ) -> bool {
+        let grid = swarm.grid;
+        let cells = grid.cell_order();
+        if cells.len() != self.next.len() || applied_by_slot.len() != self.next.len() {
+            return false;
+        }
+        let Self { law, current, next } = self;
+        let previous = &*current;
+        // `next[s]` and `applied_by_slot[s]` receive the new state and the command of the satellite in
+        // grid slot `s`.
+        next.par_chunks_mut(CHUNK)
+            .zip(applied_by_slot.par_chunks_mut(CHUNK))
+            .zip(cells.par_chunks(CHUNK))
+            .enumerate()
+            .for_each(|(chunk, ((states, applied), ids))| {
+                SENSED.with_borrow_mut(|sensed| {
+                    let batches = states
+                        .chunks_mut(OWN_BATCH)
+                        .zip(applied.chunks_mut(OWN_BATCH))
+                        .zip(ids.chunks(OWN_BATCH));
+                    for (batch, ((states, applied), ids)) in batches.enumerate() {
+                        let first_slot = chunk * CHUNK + batch * OWN_BATCH;
+                        let mut own = [None; OWN_BATCH];
+                        for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
+                            *own = tick.own(swarm, i as usize, first_slot + k);
+                        }
+                        for ((state, applied), (own, &i)) in
+                            states.iter_mut().zip(applied).zip(own.iter().zip(ids))
+                        {
+                            let i = i as usize;
+                            let Some((own, actuator)) = *own else {
+                                state.clone_from(&previous[i]);
+                                *applied = Vector3::zeros();
+                                continue;
+                            };
+                            swarm.satellite_with(own).collect_neighbours(sensed);
+                            let satellite = swarm.satellite_sensing(own, sensed);
+                            law.update_state_into(
+                                &satellite,
+                                &Broadcast::new(i, previous),
+                                &tick.update_context(i, actuator),
+                                state,
+                            );
+                            let command =
+                                law.command(&satellite, state, &tick.command_context(i, actuator));
+                            *applied = tick.applied(actuator, command);
+                        }
+                    }
+                });
+            });
+        // Each state goes to its id, leaving the outdated one in the slot for reuse.
+        for (i, state) in current.iter_mut().enumerate() {
+            std::mem::swap(state, &mut next[grid.slot(i)]);
+        }
+        true
     }
 
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64> {
@@ -312,6 +408,23 @@ impl Law {
         context: &(dyn Fn(usize) -> LawContext + Sync),
     ) {
         self.0.update_states(swarm, active, context, false)
+    }
+
+    /// One tick's state update and command evaluation in one pass over the satellites in the sensing
+    /// grid's cell order: each live satellite's neighbour walk is collected once and replayed to its
+    /// state update and then to its command (from the new state), so the states and the applied
+    /// commands (written by grid slot into `applied_by_slot`; zero for a removed satellite) are bitwise
+    /// those of [`Self::update_states`] followed by the command evaluation, on any thread count.
+    /// Returns `false`, doing nothing, when the grid does not hold every satellite (left empty by a
+    /// non-finite navigation position): the caller then runs the two passes.
+    pub(crate) fn update_states_and_commands(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        tick: &dyn TickEvaluation,
+        applied_by_slot: &mut [Vector3<f64>],
+    ) -> bool {
+        self.0
+            .update_states_and_commands(swarm, tick, applied_by_slot)
     }
 
     pub(crate) fn command(

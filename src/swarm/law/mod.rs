@@ -34,6 +34,7 @@ use thiserror::Error;
 
 pub use context::LawContext;
 pub use handle::{Law, LawParameters};
+pub(crate) use handle::{TickEvaluation, OWN_BATCH};
 pub(crate) use view::OwnSample;
 pub use view::{
     Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,

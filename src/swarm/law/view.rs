@@ -173,6 +173,7 @@ impl<'a> SwarmView<'a> {
         SatelliteView {
             id,
             own: None,
+            sensed: None,
             swarm: *self,
         }
     }
@@ -184,6 +185,26 @@ impl<'a> SwarmView<'a> {
         SatelliteView {
             id: own.id,
             own: Some(own),
+            sensed: None,
+            swarm: *self,
+        }
+    }
+
+    /// [`Self::satellite_with`] whose neighbour walks replay `neighbours`, the satellite's full walk
+    /// (as [`SatelliteView::collect_neighbours`] gives it): the same neighbours in the same order with
+    /// the same values, so a law that walks its neighbours several times queries the grid once.
+    pub(crate) fn satellite_sensing<'b>(
+        &self,
+        own: OwnSample,
+        neighbours: &'b [Neighbour],
+    ) -> SatelliteView<'b>
+    where
+        'a: 'b,
+    {
+        SatelliteView {
+            id: own.id,
+            own: Some(own),
+            sensed: Some(neighbours),
             swarm: *self,
         }
     }
@@ -223,6 +244,9 @@ pub struct SatelliteView<'a> {
     id: usize,
     /// The satellite's own data when the engine copied it out (else read from `swarm` by id).
     own: Option<OwnSample>,
+    /// The satellite's neighbours within sensing range, in walk order, when the engine already walked
+    /// the grid for it (else walked on every visit).
+    sensed: Option<&'a [Neighbour]>,
     swarm: SwarmView<'a>,
 }
 
@@ -266,13 +290,26 @@ impl SatelliteView<'_> {
     /// cells. For a law whose neighbour terms vanish beyond a radius of its own.
     pub fn for_each_neighbour_within(&self, reach_m: f64, mut visit: impl FnMut(&Neighbour)) {
         let s = &self.swarm;
+        // (A NaN reach stays NaN: nobody is within it.)
+        let reach_m = if reach_m > s.grid.radius_m() {
+            s.grid.radius_m()
+        } else {
+            reach_m
+        };
+        if let Some(sensed) = self.sensed {
+            // The grid's inclusion rule, on the distances it computed.
+            sensed
+                .iter()
+                .filter(|nb| nb.distance_m <= reach_m)
+                .for_each(visit);
+            return;
+        }
         let links_up = self
             .own
             .map_or_else(|| s.links_up[self.id], |own| own.links_up);
         if !links_up || self.id >= s.grid.len() {
             return;
         }
-        let reach_m = reach_m.min(s.grid.radius_m());
         let mut report = |nb: crate::grid::Neighbour| {
             visit(&Neighbour {
                 id: nb.index,
@@ -295,6 +332,13 @@ impl SatelliteView<'_> {
                 }
             });
         }
+    }
+
+    /// Replaces `out` with this satellite's neighbours within sensing range, in walk order (for
+    /// [`SwarmView::satellite_sensing`]).
+    pub(crate) fn collect_neighbours(&self, out: &mut Vec<Neighbour>) {
+        out.clear();
+        self.for_each_neighbour(|nb| out.push(*nb));
     }
 
     /// Visits every threat within sensing range (the threat's detection range where the scenario gives
@@ -418,9 +462,9 @@ mod tests {
     use crate::swarm::law::test_swarm::{grid_of, random_swarm, view, RANGE_M};
 
     /// A walk within a reach below the sensing range visits exactly the neighbours of the full walk
-    /// within that reach, in the same order, with the same values: through the id and the own-sample
-    /// paths, on masked and unmasked grids, with removed and link-cut satellites; a reach above the
-    /// sensing range is capped at it.
+    /// within that reach, in the same order, with the same values: through the id, the own-sample and
+    /// the replayed-walk paths, on masked and unmasked grids, with removed and link-cut satellites; a
+    /// reach above the sensing range is capped at it, and a NaN or negative one reaches nobody.
     #[test]
     fn walk_within_a_reach_is_the_full_walk_filtered_by_distance() {
         let n = 1500;
@@ -438,14 +482,26 @@ mod tests {
             for i in 0..n {
                 let mut by_id = Vec::new();
                 swarm.satellite(i).for_each_neighbour(|nb| by_id.push(*nb));
+                let own = OwnSample::of(&swarm, i, grid.slot(i));
+                let mut sensed = Vec::new();
+                swarm.satellite_with(own).collect_neighbours(&mut sensed);
                 for satellite in [
                     swarm.satellite(i),
-                    swarm.satellite_with(OwnSample::of(&swarm, i, grid.slot(i))),
+                    swarm.satellite_with(own),
+                    swarm.satellite_sensing(own, &sensed),
                 ] {
                     let mut full = Vec::new();
                     satellite.for_each_neighbour(|nb| full.push(*nb));
                     assert_eq!(full, by_id, "satellite {i}");
-                    for reach in [0.0, 0.1 * RANGE_M, 0.45 * RANGE_M, RANGE_M, 3.0 * RANGE_M] {
+                    for reach in [
+                        f64::NAN,
+                        -1.0,
+                        0.0,
+                        0.1 * RANGE_M,
+                        0.45 * RANGE_M,
+                        RANGE_M,
+                        3.0 * RANGE_M,
+                    ] {
                         let mut within = Vec::new();
                         satellite.for_each_neighbour_within(reach, |nb| within.push(*nb));
                         let expected: Vec<_> = full

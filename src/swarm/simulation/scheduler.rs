@@ -234,20 +234,32 @@ impl Simulation {
             self.timings.sensing_s += (now - clock).as_secs_f64();
             now
         };
-        if stateful {
-            self.law.update_states(&view, &self.fleet.active, &|i| {
-                plant.context(i, t0, tick, false)
-            });
-        }
-        if sampled || kinematic {
-            // `held_control` is rewritten from `applied_hill` just below: until then it is scratch.
-            plant.commands_in_cell_order(
-                &self.law,
+        let commands = sampled || kinematic;
+        // `held_control` is rewritten from `applied_hill` below: until then it is scratch.
+        let fused = stateful
+            && commands
+            && plant.states_and_commands_in_cell_order(
+                &mut self.law,
                 &view,
                 tick,
                 &mut self.held_control,
                 &mut self.applied_hill,
             );
+        if stateful && !fused {
+            self.law.update_states(&view, &self.fleet.active, &|i| {
+                plant.context(i, t0, tick, false)
+            });
+        }
+        if commands {
+            if !fused {
+                plant.commands_in_cell_order(
+                    &self.law,
+                    &view,
+                    tick,
+                    &mut self.held_control,
+                    &mut self.applied_hill,
+                );
+            }
             let frame = self
                 .config
                 .dynamics

@@ -12,6 +12,7 @@ use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::{
     EnvironmentView, Law, LawContext, OwnSample, SatelliteView, SharedInfo, SwarmView,
+    TickEvaluation, OWN_BATCH,
 };
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
@@ -267,26 +268,26 @@ impl<'a> Plant<'a> {
         }
         // Each batch first copies out its satellites' own data (loads by id, scattered in memory on a
         // large swarm, issued back to back so they overlap), then evaluates the laws on the copies.
-        const BATCH: usize = 16;
+        let evaluation = PlantTick {
+            plant: self,
+            time_s: view.shared.time_s,
+            tick,
+        };
         scratch
             .par_chunks_mut(CHUNK)
             .zip(order.par_chunks(CHUNK))
             .enumerate()
             .for_each(|(chunk, (outs, ids))| {
                 let first_slot = chunk * CHUNK;
-                for (batch, (outs, ids)) in
-                    outs.chunks_mut(BATCH).zip(ids.chunks(BATCH)).enumerate()
+                for (batch, (outs, ids)) in outs
+                    .chunks_mut(OWN_BATCH)
+                    .zip(ids.chunks(OWN_BATCH))
+                    .enumerate()
                 {
-                    let first_slot = first_slot + batch * BATCH;
-                    let mut own = [None; BATCH];
+                    let first_slot = first_slot + batch * OWN_BATCH;
+                    let mut own = [None; OWN_BATCH];
                     for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
-                        let i = i as usize;
-                        if self.fleet.active[i] {
-                            *own = Some((
-                                OwnSample::of(view, i, first_slot + k),
-                                self.fleet.actuators[i],
-                            ));
-                        }
+                        *own = evaluation.own(view, i as usize, first_slot + k);
                     }
                     for (out, own) in outs.iter_mut().zip(own) {
                         *out = own.map_or_else(Vector3::zeros, |(own, actuator)| {
@@ -295,11 +296,43 @@ impl<'a> Plant<'a> {
                     }
                 }
             });
-        applied_hill
+        Self::gather_by_id(view, scratch, applied_hill);
+    }
+
+    /// The state update of a stateful law and the commands of one tick in one pass
+    /// ([`Law::update_states_and_commands`]): the states and the applied commands are bitwise those of
+    /// [`Law::update_states`] followed by [`Self::commands_in_cell_order`]. `scratch` (same length as
+    /// `applied_hill`) is overwritten. Returns `false`, doing nothing, when the grid does not hold every
+    /// satellite (a non-finite navigation position): the caller then runs the two passes.
+    pub fn states_and_commands_in_cell_order(
+        &self,
+        law: &mut Law,
+        view: &SwarmView<'_>,
+        tick: u64,
+        scratch: &mut [Vector3<f64>],
+        applied_hill: &mut [Vector3<f64>],
+    ) -> bool {
+        let evaluation = PlantTick {
+            plant: self,
+            time_s: view.shared.time_s,
+            tick,
+        };
+        if scratch.len() != applied_hill.len()
+            || !law.update_states_and_commands(view, &evaluation, scratch)
+        {
+            return false;
+        }
+        Self::gather_by_id(view, scratch, applied_hill);
+        true
+    }
+
+    /// Writes into `by_id[i]` the value of satellite `i`'s grid slot in `by_slot`.
+    fn gather_by_id(view: &SwarmView<'_>, by_slot: &[Vector3<f64>], by_id: &mut [Vector3<f64>]) {
+        by_id
             .par_iter_mut()
             .with_min_len(CHUNK)
             .enumerate()
-            .for_each(|(i, applied)| *applied = scratch[grid.slot(i)]);
+            .for_each(|(i, value)| *value = by_slot[view.grid.slot(i)]);
     }
 
     /// The applied command of satellite `i` (zero for a removed satellite).
@@ -326,7 +359,12 @@ impl<'a> Plant<'a> {
             tick,
             true,
         );
-        let command = law.command(satellite, &context);
+        self.through_actuator(actuator, law.command(satellite, &context))
+    }
+
+    /// The applied command of a law's command `command`: through the actuator `actuator`, or the
+    /// commanded velocity itself (kinematic model).
+    fn through_actuator(&self, actuator: Actuator, command: Vector3<f64>) -> Vector3<f64> {
         if matches!(self.config.dynamics, DynamicsModel::Kinematic) {
             command
         } else {
@@ -340,6 +378,34 @@ impl<'a> Plant<'a> {
     }
 }
 
+/// The engine's side of one tick's evaluation at time `time_s` (the view's time) \[s\], tick `tick`.
+struct PlantTick<'p> {
+    plant: &'p Plant<'p>,
+    time_s: f64,
+    tick: u64,
+}
+
+impl TickEvaluation for PlantTick<'_> {
+    fn own(&self, swarm: &SwarmView<'_>, id: usize, slot: usize) -> Option<(OwnSample, Actuator)> {
+        let fleet = self.plant.fleet;
+        fleet.active[id].then(|| (OwnSample::of(swarm, id, slot), fleet.actuators[id]))
+    }
+
+    fn update_context(&self, id: usize, actuator: Actuator) -> LawContext {
+        self.plant
+            .context_with(id, actuator, self.time_s, self.tick, false)
+    }
+
+    fn command_context(&self, id: usize, actuator: Actuator) -> LawContext {
+        self.plant
+            .context_with(id, actuator, self.time_s, self.tick, true)
+    }
+
+    fn applied(&self, actuator: Actuator, command: Vector3<f64>) -> Vector3<f64> {
+        self.plant.through_actuator(actuator, command)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::path::Path;
@@ -347,6 +413,103 @@ mod tests {
     use super::*;
     use crate::run::build_simulation;
     use crate::scenario::Scenario;
+
+    /// The fused pass of a stateful law (one grid walk per satellite, replayed to the state update and
+    /// the command) gives exactly the states and applied commands of the two separate passes, at 1 and
+    /// 3 threads, with removed and link-cut satellites, over several ticks (so the states it reads are
+    /// its own earlier outputs).
+    #[test]
+    fn fused_state_and_command_pass_equals_the_two_passes_bitwise() {
+        use crate::guidance::pigeon::Pigeon;
+        let text = "name = \"t\"\nseed = 3\nduration_s = 100.0\nrecord_interval_s = 100.0\n\
+                    [dynamics]\nmodel = \"j2\"\nintegrator = \"rk4\"\nstep_s = 0.05\n\
+                    [reference]\naltitude_m = 600e3\ninclination_deg = 98.0\n\
+                    [control]\nmode = \"sampled\"\nperiod_s = 0.05\n\
+                    [satellites]\ncount = 3000\nmass_kg = 10.0\nradius_m = 0.05\n\
+                    max_accel_mps2 = 5.0\naccel_limit = \"per-axis\"\n\
+                    initial = { distribution = \"sphere\", radius_m = 400.0 }\n\
+                    [sensing]\nrange_m = 60.0\n[law]\nname = \"pigeon\"\nswitching = true\n\
+                    egalitarian_range_m = 50.0\nhierarchical_range_m = 60.0\n\
+                    [output]\ntrajectory = false\n";
+        let scenario = Scenario::from_toml(text, "t", Path::new(".")).unwrap();
+        let prepare = || {
+            let mut sim = build_simulation(&scenario).unwrap();
+            for i in (0..3000).step_by(7) {
+                sim.fleet.active[i] = false;
+            }
+            for i in (3..3000).step_by(11) {
+                sim.fleet.links_up[i] = false;
+            }
+            sim
+        };
+        let mut reference = prepare();
+        let mut fused = [prepare(), prepare()];
+        for tick in 0..4u64 {
+            let n = reference.fleet.active.len();
+            let mut expected = vec![Vector3::zeros(); n];
+            {
+                let sim = &mut reference;
+                let plant = Plant::new(
+                    &sim.config,
+                    &sim.fleet,
+                    &sim.threat_warnings,
+                    sim.reference_model,
+                );
+                let view = plant.view(sim.time_s, &sim.truth, None, &mut sim.sensed);
+                let time_s = view.shared.time_s;
+                sim.law.update_states(&view, &sim.fleet.active, &|i| {
+                    plant.context(i, time_s, tick, false)
+                });
+                let mut scratch = vec![Vector3::zeros(); n];
+                plant.commands_in_cell_order(&sim.law, &view, tick, &mut scratch, &mut expected);
+            }
+            assert!(expected.iter().any(|u| u.norm() > 0.0));
+            for (threads, sim) in [1, 3].into_iter().zip(&mut fused) {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let plant = Plant::new(
+                    &sim.config,
+                    &sim.fleet,
+                    &sim.threat_warnings,
+                    sim.reference_model,
+                );
+                let view = plant.view(sim.time_s, &sim.truth, None, &mut sim.sensed);
+                let (mut scratch, mut applied) =
+                    (vec![Vector3::zeros(); n], vec![Vector3::zeros(); n]);
+                let ran = pool.install(|| {
+                    plant.states_and_commands_in_cell_order(
+                        &mut sim.law,
+                        &view,
+                        tick,
+                        &mut scratch,
+                        &mut applied,
+                    )
+                });
+                assert!(ran);
+                for (a, b) in expected.iter().zip(&applied) {
+                    for k in 0..3 {
+                        assert_eq!(
+                            a[k].to_bits(),
+                            b[k].to_bits(),
+                            "tick {tick}, {threads} threads"
+                        );
+                    }
+                }
+                assert_eq!(
+                    reference.law.states::<Pigeon>().unwrap(),
+                    sim.law.states::<Pigeon>().unwrap(),
+                    "tick {tick}, {threads} threads"
+                );
+            }
+            // Move on: one step of each (the commands they hold are their own, equal as checked).
+            reference.step().unwrap();
+            for sim in &mut fused {
+                sim.step().unwrap();
+            }
+        }
+    }
 
     /// Cell-order evaluation gives exactly the bits of the plain id-order evaluation, at 1 and 3
     /// threads, on a swarm with removed and link-cut satellites and a stateful neighbour law (pigeon,
