@@ -40,7 +40,7 @@ mod prefilter;
 
 use std::ops::Range;
 
-use prefilter::Prefilter;
+use prefilter::{Candidates, Prefilter};
 
 use rayon::prelude::*;
 use thiserror::Error;
@@ -68,6 +68,9 @@ const PARALLEL_MIN_LEN: usize = 8192;
 
 /// Candidates whose squared distances a fixed-radius query computes in one branch-free batch.
 const SCAN_BATCH: usize = 64;
+
+/// Candidate slots a query buffers (after the squared-distance prefilter) before it visits them.
+const PASSED_CAPACITY: usize = 4 * SCAN_BATCH;
 
 /// At most this many cells per axis; thinner spreads get cells larger than the radius.
 const MAX_CELLS_PER_AXIS: f64 = 1_048_576.0;
@@ -518,41 +521,37 @@ impl NeighbourGrid {
         // Prefilter on squared distance, with a relative margin so it never rejects a point that passes
         // the exact `sqrt(d2) <= reach` test.
         let reach2 = reach_m * reach_m * (1.0 + 1e-10);
-        // Each row of cells is scanned in batches: first the squared distances of the whole batch,
-        // with the indices that pass appended without a branch (most candidates fail, unpredictably),
-        // then the exact test and the visit for those, in slot order.
-        let mut passed = [0u32; SCAN_BATCH];
-        let mut scan = |slots: Range<usize>| {
-            let mut start = slots.start;
-            while start < slots.end {
-                let end = (start + SCAN_BATCH).min(slots.end);
-                let count = self.prefilter.passing(
-                    &self.xs[start..end],
-                    &self.ys[start..end],
-                    &self.zs[start..end],
-                    p,
-                    reach2,
-                    &mut passed,
-                );
-                for &offset in &passed[..count] {
-                    let s = start + offset as usize;
-                    let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
-                    let d = (dx * dx + dy * dy + dz * dz).sqrt();
-                    if s != si && d <= reach_m && !self.hidden_slot(s) {
-                        visit(Neighbour {
-                            index: self.items[s] as usize,
-                            dx_m: dx,
-                            dy_m: dy,
-                            dz_m: dz,
-                            distance_m: d,
-                        });
+        // Each row of cells is scanned in batches: the squared distances of a whole batch, with the
+        // slots that pass appended without a branch (most candidates fail, unpredictably). The exact
+        // test and the visits run over everything passed so far, in slot order, once the buffer might
+        // not hold another batch and at the end: one loop over the passed candidates per query, not
+        // one per row.
+        let mut passed = [0u32; PASSED_CAPACITY];
+        let mut count = 0;
+        let mut scan =
+            |slots: Range<usize>, passed: &mut [u32; PASSED_CAPACITY], count: &mut usize| {
+                let mut start = slots.start;
+                while start < slots.end {
+                    if *count + SCAN_BATCH > PASSED_CAPACITY {
+                        self.visit_passed(si, p, reach_m, &passed[..*count], &mut visit);
+                        *count = 0;
                     }
+                    let end = (start + SCAN_BATCH).min(slots.end);
+                    let window: &mut [u32; SCAN_BATCH] = (&mut passed[*count..*count + SCAN_BATCH])
+                        .try_into()
+                        .expect("a window of SCAN_BATCH slots");
+                    let candidates = Candidates {
+                        xs: &self.xs[start..end],
+                        ys: &self.ys[start..end],
+                        zs: &self.zs[start..end],
+                        first_slot: start as u32,
+                    };
+                    *count += self.prefilter.passing(candidates, p, reach2, window);
+                    start = end;
                 }
-                start = end;
-            }
-        };
+            };
         if self.block_cells(c, k) > self.brute_force_threshold() {
-            scan(0..self.len());
+            scan(0..self.len(), &mut passed, &mut count);
         } else {
             // Only the cells the box [p − reach, p + reach] meets: all 3 × 3 × 3 for a reach of the
             // radius, often the satellite's own cell alone for a reach well below it.
@@ -561,8 +560,35 @@ impl NeighbourGrid {
             let (z_lo, z_hi) = self.reach_span(c, k, p, reach_m, 2);
             for z in z_lo..=z_hi {
                 for y in y_lo..=y_hi {
-                    scan(self.row(y, z, x_lo, x_hi));
+                    scan(self.row(y, z, x_lo, x_hi), &mut passed, &mut count);
                 }
+            }
+        }
+        self.visit_passed(si, p, reach_m, &passed[..count], &mut visit);
+    }
+
+    /// The exact test and the visit of the candidate slots `passed` (ascending) of a query from slot
+    /// `si` at position `p` with reach `reach_m`.
+    fn visit_passed(
+        &self,
+        si: usize,
+        p: [f64; 3],
+        reach_m: f64,
+        passed: &[u32],
+        visit: &mut impl FnMut(Neighbour),
+    ) {
+        for &s in passed {
+            let s = s as usize;
+            let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            if s != si && d <= reach_m && !self.hidden_slot(s) {
+                visit(Neighbour {
+                    index: self.items[s] as usize,
+                    dx_m: dx,
+                    dy_m: dy,
+                    dz_m: dz,
+                    distance_m: d,
+                });
             }
         }
     }
@@ -784,9 +810,9 @@ mod tests {
 
     /// The batched scan changes neither the answers nor their order: it equals the plain slot-by-slot
     /// walk of the block, neighbour by neighbour, with either copy of the prefilter, on dense and sparse
-    /// layouts, at ECI-sized offsets, on
-    /// a lattice with many pairs exactly at the reach, for reaches from a fraction of a cell to several
-    /// cells (and the all-satellite scan when the block outgrows the swarm).
+    /// layouts, at ECI-sized offsets, on a lattice with many pairs exactly at the reach, for reaches
+    /// from a fraction of a cell to several cells (and the all-satellite scan when the block outgrows
+    /// the swarm, and queries passing more candidates than the buffer holds).
     #[test]
     fn batched_query_visits_exactly_what_the_plain_walk_visits() {
         let mut state = 0x2545_f491_4f6c_dd1d_u64;
@@ -797,7 +823,7 @@ mod tests {
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
         let mut g = NeighbourGrid::new();
-        let mut visited = 0;
+        let (mut visited, mut most) = (0, 0);
         for (offset, spread, lattice) in [
             (0.0, 100.0, false),
             (7e6, 30.0, false),
@@ -823,6 +849,7 @@ mod tests {
                 radius,
                 1.7 * radius,
                 3.0 * radius,
+                6.0 * radius,
             ] {
                 let reach = if lattice {
                     reach.round().max(1.0)
@@ -840,11 +867,16 @@ mod tests {
                             "satellite {i}, reach {reach}, {prefilter:?}"
                         );
                         visited += batched.len();
+                        most = most.max(batched.len());
                     }
                 }
             }
         }
         assert!(visited > 100_000, "too few neighbours to test: {visited}");
+        assert!(
+            most > PASSED_CAPACITY,
+            "no query filled the candidate buffer: at most {most} neighbours"
+        );
     }
 
     #[test]

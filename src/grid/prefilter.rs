@@ -2,10 +2,20 @@
 //! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Two copies that give the same
 //! answers: a portable branch-free loop (one candidate per iteration) and, on x86-64 CPUs with
 //! AVX-512F and AVX-512VL (detected at run time), eight candidates per instruction with their passing
-//! offsets compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
+//! slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
 //! same order (no fused multiply-add), so they pass exactly the same candidates.
 
 use super::SCAN_BATCH;
+
+/// A batch of candidates: their coordinates (m, one length, at most [`SCAN_BATCH`]) from storage slot
+/// `first_slot` on.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Candidates<'a> {
+    pub xs: &'a [f64],
+    pub ys: &'a [f64],
+    pub zs: &'a [f64],
+    pub first_slot: u32,
+}
 
 /// Which copy of the prefilter a grid runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,9 +52,9 @@ pub(crate) fn avx512_available() -> bool {
 }
 
 impl Prefilter {
-    /// Writes to the front of `passed`, ascending, the offsets `o` of the candidates
-    /// `(xs[o], ys[o], zs[o])` (m) whose squared distance from `p` is at most `reach2` (m²), and
-    /// returns how many there are. The three slices have one length, at most [`SCAN_BATCH`].
+    /// Writes to the front of `passed`, ascending, the storage slots `first_slot + o` of the
+    /// `candidates` `(xs[o], ys[o], zs[o])` whose squared distance from `p` (m) is at most `reach2`
+    /// (m²), and returns how many there are.
     ///
     /// # Panics
     /// If the slices differ in length or are longer than [`SCAN_BATCH`].
@@ -52,62 +62,69 @@ impl Prefilter {
     #[inline]
     pub(crate) fn passing(
         self,
-        xs: &[f64],
-        ys: &[f64],
-        zs: &[f64],
+        candidates: Candidates<'_>,
         p: [f64; 3],
         reach2: f64,
         passed: &mut [u32; SCAN_BATCH],
     ) -> usize {
+        let Candidates { xs, ys, zs, .. } = candidates;
         let n = xs.len();
         assert!(ys.len() == n && zs.len() == n && n <= SCAN_BATCH);
         #[cfg(target_arch = "x86_64")]
         if self == Prefilter::Avx512 && avx512_available() {
             // SAFETY: the CPU has AVX-512F and AVX-512VL (checked on the line above), the only
             // features the function enables; the lengths were checked above.
-            return unsafe { passing_avx512(xs, ys, zs, p, reach2, passed) };
+            return unsafe { passing_avx512(candidates, p, reach2, passed) };
         }
-        passing_portable(xs, ys, zs, p, reach2, passed)
+        passing_portable(candidates, p, reach2, passed)
     }
 }
 
-/// The portable copy: each candidate's offset is written, and the count advances only when it passes
+/// The portable copy: each candidate's slot is written, and the count advances only when it passes
 /// (no branch: most candidates fail, unpredictably).
 fn passing_portable(
-    xs: &[f64],
-    ys: &[f64],
-    zs: &[f64],
+    candidates: Candidates<'_>,
     p: [f64; 3],
     reach2: f64,
     passed: &mut [u32; SCAN_BATCH],
 ) -> usize {
+    let Candidates {
+        xs,
+        ys,
+        zs,
+        first_slot,
+    } = candidates;
     let mut count = 0;
     for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
         let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
-        passed[count] = offset as u32;
+        passed[count] = first_slot + offset as u32;
         count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
     }
     count
 }
 
-/// The AVX-512 copy: eight candidates per step (the last step masked), the passing lanes' offsets
+/// The AVX-512 copy: eight candidates per step (the last step masked), the passing lanes' slots
 /// compressed to the front of a 256-bit register and stored at the current count.
 ///
 /// # Safety
-/// The CPU must have AVX-512F and AVX-512VL; the three slices must have one length, at most
-/// [`SCAN_BATCH`].
+/// The CPU must have AVX-512F and AVX-512VL; the three coordinate slices must have one length, at
+/// most [`SCAN_BATCH`].
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl")]
 #[allow(unsafe_code)]
 unsafe fn passing_avx512(
-    xs: &[f64],
-    ys: &[f64],
-    zs: &[f64],
+    candidates: Candidates<'_>,
     p: [f64; 3],
     reach2: f64,
     passed: &mut [u32; SCAN_BATCH],
 ) -> usize {
     use std::arch::x86_64::*;
+    let Candidates {
+        xs,
+        ys,
+        zs,
+        first_slot,
+    } = candidates;
     let n = xs.len();
     let (px, py, pz) = (
         _mm512_set1_pd(p[0]),
@@ -115,7 +132,11 @@ unsafe fn passing_avx512(
         _mm512_set1_pd(p[2]),
     );
     let r2 = _mm512_set1_pd(reach2);
-    let mut offsets = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    // Slots are below 2^28 (`MAX_POINTS`), so they fit the 32-bit lanes.
+    let mut slots = _mm256_add_epi32(
+        _mm256_set1_epi32(first_slot as i32),
+        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+    );
     let eight = _mm256_set1_epi32(8);
     let mut count = 0usize;
     let mut start = 0usize;
@@ -147,11 +168,11 @@ unsafe fn passing_avx512(
         unsafe {
             _mm256_storeu_si256(
                 passed.as_mut_ptr().add(count).cast::<__m256i>(),
-                _mm256_maskz_compress_epi32(pass, offsets),
+                _mm256_maskz_compress_epi32(pass, slots),
             );
         }
         count += pass.count_ones() as usize;
-        offsets = _mm256_add_epi32(offsets, eight);
+        slots = _mm256_add_epi32(slots, eight);
         start += 8;
     }
     count
@@ -198,16 +219,23 @@ pub(super) mod tests {
                     zs.push(p[2] + 3.0 * uniform() - 1.5);
                 }
             }
+            let first_slot = 1000 * n as u32;
             let expected: Vec<u32> = (0..n)
                 .filter(|&o| {
                     let (dx, dy, dz) = (xs[o] - p[0], ys[o] - p[1], zs[o] - p[2]);
                     dx * dx + dy * dy + dz * dz <= reach2
                 })
-                .map(|o| o as u32)
+                .map(|o| first_slot + o as u32)
                 .collect();
             for copy in copies() {
                 let mut passed = [u32::MAX; SCAN_BATCH];
-                let count = copy.passing(&xs, &ys, &zs, p, reach2, &mut passed);
+                let candidates = Candidates {
+                    xs: &xs,
+                    ys: &ys,
+                    zs: &zs,
+                    first_slot,
+                };
+                let count = copy.passing(candidates, p, reach2, &mut passed);
                 assert_eq!(&passed[..count], &expected[..], "{copy:?}, n = {n}");
             }
         }
