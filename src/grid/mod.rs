@@ -15,10 +15,13 @@
 //!   axis are used; for an even thinner spread the cell edge grows beyond the radius, which keeps the
 //!   answers exact and only costs speed.
 //!
-//! * A fixed-radius query scans each row of cells in branch-free batches: the squared distances of up to
-//!   64 candidates, the slots that pass appended without a branch (most candidates fail, unpredictably),
-//!   then the exact test in slot order. The answers and their order are those of a plain slot-by-slot
-//!   walk (tested).
+//! * A fixed-radius query prefilters each row of cells in branch-free batches: the squared distances of
+//!   up to 64 candidates, the slots that pass appended without a branch (most candidates fail,
+//!   unpredictably; module `prefilter`: a portable loop, and an AVX-512 copy chosen at run time that passes
+//!   the same candidates). The passing slots of all rows are buffered, then the exact test and the
+//!   visits run in one loop in slot order. A reach below the cell edge keeps only the cells that the
+//!   box `[p − reach, p + reach]` meets. The answers and their order are those of a plain slot-by-slot
+//!   walk of the whole block (tested).
 //! * [`NeighbourGrid::mask`] hides satellites from every query until the next build (the engine hides
 //!   removed and unlinked ones), so a caller need not look up per-neighbour flags by index.
 //!
