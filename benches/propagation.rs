@@ -3,8 +3,9 @@
 //! 100 000). Groups `fused_1_step` and `fused_60_steps`: the fused structure-of-arrays kernel
 //! (`FusedRk4`, the engine's sampled path) advancing the swarm by one step (one control period of 1 s)
 //! or by a 60-step segment per call, with the portable (SSE2) copy and the widest the CPU has
-//! (N = 1 000, 10 000, 100 000). Throughput is reported in satellite-steps per second (criterion's
-//! "elements").
+//! (N = 1 000, 10 000, 100 000). Group `fork_join`: one step on the calling thread against one forked
+//! onto the pool, N = 1 024 … 32 768 (the parallel threshold's crossover). Throughput is reported in
+//! satellite-steps per second (criterion's "elements").
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use nalgebra::Vector3;
@@ -115,5 +116,31 @@ fn fused(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, propagation, fused);
+/// One step of N satellites (a 1 s control period) with the widest copy, on the calling thread
+/// (`serial`) and forked onto the rayon pool (`parallel`, threshold 0): where `parallel` starts to win is
+/// the crossover [`satflock::integrate::PARALLEL_MIN_SAT_STEPS`] should sit at. N below two
+/// `PARALLEL_CHUNK`s never splits.
+fn fork_join(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fork_join");
+    let kernel = FusedRk4::new(GravityModel::J2, EarthModel::WGS84_EGM96);
+    for n in [1_024usize, 2_048, 4_096, 8_192, 16_384, 32_768] {
+        let mut y = component_major(n);
+        group.throughput(Throughput::Elements(n as u64));
+        for (name, threshold) in [("serial", usize::MAX), ("parallel", 0)] {
+            let kernel = kernel.with_parallel_min_sat_steps(threshold);
+            group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
+                let mut t = 0.0;
+                b.iter(|| {
+                    kernel
+                        .advance(&mut y, n, &SegmentInputs::default(), t, t + 1.0, 1.0)
+                        .expect("valid input");
+                    t += 1.0;
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, propagation, fused, fork_join);
 criterion_main!(benches);

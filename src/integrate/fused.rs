@@ -38,9 +38,11 @@ use crate::orbit::{EarthModel, GravityModel};
 pub const PARALLEL_CHUNK: usize = 512;
 
 /// Least work (satellites × steps of the segment) run in parallel; less runs on the calling thread.
-/// A first estimate (16 384 sat-steps take about 100 µs, a rayon join a few µs), not yet a measured
-/// crossover (see `BENCHMARKS.md`).
-pub const PARALLEL_MIN_SAT_STEPS: usize = 16_384;
+/// The measured crossover on the 2-core reference machine (`cargo bench --bench propagation --
+/// fork_join`, one step of N satellites): the calling thread alone wins at 1 024 and 2 048 sat-steps
+/// (9 and 18 µs against 11–28 µs forked: waking the other thread costs about 10 µs), forking wins from
+/// 4 096 (26–30 against 36 µs) and by 1.7–1.9× from 8 192 on (see `BENCHMARKS.md`).
+pub const PARALLEL_MIN_SAT_STEPS: usize = 4_096;
 
 /// Which copy of the kernel runs: they give the same bits and differ only in speed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -153,6 +155,7 @@ pub struct FusedRk4 {
     gravity: GravityModel,
     earth: EarthModel,
     simd: Simd,
+    parallel_min_sat_steps: usize,
 }
 
 impl FusedRk4 {
@@ -162,6 +165,17 @@ impl FusedRk4 {
             gravity,
             earth,
             simd: Simd::detect(),
+            parallel_min_sat_steps: PARALLEL_MIN_SAT_STEPS,
+        }
+    }
+
+    /// The same kernel forking onto the rayon pool from `sat_steps` of work (satellites × steps of a
+    /// segment) on, instead of [`PARALLEL_MIN_SAT_STEPS`]: for measuring the crossover on a machine
+    /// (`benches/propagation.rs`, group `fork_join`). The answers never depend on it.
+    pub fn with_parallel_min_sat_steps(self, sat_steps: usize) -> Self {
+        Self {
+            parallel_min_sat_steps: sat_steps,
+            ..self
         }
     }
 
@@ -245,7 +259,7 @@ impl FusedRk4 {
             active: inputs.active,
             offset: 0,
         };
-        let parallel = n.saturating_mul(plan.steps) >= PARALLEL_MIN_SAT_STEPS
+        let parallel = n.saturating_mul(plan.steps) >= self.parallel_min_sat_steps
             && rayon::current_num_threads() > 1;
         let constants = Constants::new(&self.earth);
         let job = Job {
