@@ -209,40 +209,43 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
             .zip(cells.par_chunks(CHUNK))
             .enumerate()
             .for_each(|(chunk, ((states, applied), ids))| {
-                SENSED.with_borrow_mut(|sensed| {
-                    let batches = states
-                        .chunks_mut(OWN_BATCH)
-                        .zip(applied.chunks_mut(OWN_BATCH))
-                        .zip(ids.chunks(OWN_BATCH));
-                    for (batch, ((states, applied), ids)) in batches.enumerate() {
-                        let first_slot = chunk * CHUNK + batch * OWN_BATCH;
-                        let mut own = [None; OWN_BATCH];
-                        for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
-                            *own = tick.own(swarm, i as usize, first_slot + k);
-                        }
-                        for ((state, applied), (own, &i)) in
-                            states.iter_mut().zip(applied).zip(own.iter().zip(ids))
-                        {
-                            let i = i as usize;
-                            let Some((own, actuator)) = *own else {
-                                state.clone_from(&previous[i]);
-                                *applied = Vector3::zeros();
-                                continue;
-                            };
-                            swarm.satellite_with(own).collect_neighbours(sensed);
-                            let satellite = swarm.satellite_sensing(own, sensed);
-                            law.update_state_into(
-                                &satellite,
-                                &Broadcast::new(i, previous),
-                                &tick.update_context(i, actuator),
-                                state,
-                            );
-                            let command =
-                                law.command(&satellite, state, &tick.command_context(i, actuator));
-                            *applied = tick.applied(actuator, command);
-                        }
+                // The buffer is taken out of the thread-local for the chunk, not borrowed across the
+                // law's calls: a law that runs rayon work of its own may have this thread pick up
+                // another chunk meanwhile, which then starts from an empty buffer instead of panicking.
+                let mut sensed = SENSED.take();
+                let batches = states
+                    .chunks_mut(OWN_BATCH)
+                    .zip(applied.chunks_mut(OWN_BATCH))
+                    .zip(ids.chunks(OWN_BATCH));
+                for (batch, ((states, applied), ids)) in batches.enumerate() {
+                    let first_slot = chunk * CHUNK + batch * OWN_BATCH;
+                    let mut own = [None; OWN_BATCH];
+                    for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
+                        *own = tick.own(swarm, i as usize, first_slot + k);
                     }
-                });
+                    for ((state, applied), (own, &i)) in
+                        states.iter_mut().zip(applied).zip(own.iter().zip(ids))
+                    {
+                        let i = i as usize;
+                        let Some((own, actuator)) = *own else {
+                            state.clone_from(&previous[i]);
+                            *applied = Vector3::zeros();
+                            continue;
+                        };
+                        swarm.satellite_with(own).collect_neighbours(&mut sensed);
+                        let satellite = swarm.satellite_sensing(own, &sensed);
+                        law.update_state_into(
+                            &satellite,
+                            &Broadcast::new(i, previous),
+                            &tick.update_context(i, actuator),
+                            state,
+                        );
+                        let command =
+                            law.command(&satellite, state, &tick.command_context(i, actuator));
+                        *applied = tick.applied(actuator, command);
+                    }
+                }
+                SENSED.set(sensed);
             });
         // Each state goes to its id, leaving the outdated one in the slot for reuse.
         for (i, state) in current.iter_mut().enumerate() {
@@ -591,5 +594,111 @@ mod tests {
             .iter()
             .all(|s| s.updates == 1 && s.egalitarian().is_empty()));
         assert_same_states(reference.states::<Pigeon>().unwrap(), updated, "no grid");
+    }
+
+    /// A law that runs rayon work of its own inside its update and command gets the states and
+    /// commands of the two separate passes from the fused pass, on 2 threads. (A thread waiting on such
+    /// work may pick up another chunk of the pass; the pass takes its neighbour buffer out of the
+    /// thread-local rather than borrowing it across the law's calls, so that cannot panic — a case
+    /// this test exercises only when the scheduler happens to interleave that way.)
+    #[test]
+    fn fused_pass_survives_a_law_with_its_own_rayon_work() {
+        use nalgebra::Vector3;
+        use rayon::prelude::*;
+
+        use super::{OwnSample, TickEvaluation};
+        use crate::swarm::{Broadcast, GuidanceLaw, LawError, SatelliteView, SwarmView};
+
+        struct Nested;
+        fn inner() -> f64 {
+            (0..256).into_par_iter().map(|k| k as f64).sum()
+        }
+        impl GuidanceLaw for Nested {
+            type State = f64;
+            type Parameters = ();
+            fn name(&self) -> &'static str {
+                "nested"
+            }
+            fn update_state(
+                &self,
+                me: &SatelliteView<'_>,
+                broadcast: &Broadcast<'_, f64>,
+                _: &LawContext,
+            ) -> f64 {
+                let mut sum = *broadcast.own() + inner();
+                me.for_each_neighbour(|nb| sum += nb.distance_m);
+                sum
+            }
+            fn command(&self, me: &SatelliteView<'_>, state: &f64, _: &LawContext) -> Vector3<f64> {
+                let mut count = 0.0;
+                me.for_each_neighbour(|_| count += 1.0);
+                Vector3::new(*state, count, inner())
+            }
+            fn set_parameters(&mut self, _: &()) -> Result<(), LawError> {
+                Ok(())
+            }
+        }
+        struct Tick<'a> {
+            active: &'a [bool],
+        }
+        impl TickEvaluation for Tick<'_> {
+            fn own(
+                &self,
+                swarm: &SwarmView<'_>,
+                id: usize,
+                slot: usize,
+            ) -> Option<(OwnSample, Actuator)> {
+                self.active[id].then(|| {
+                    (
+                        OwnSample::of(swarm, id, slot),
+                        Actuator::new(5.0, LimitKind::PerAxis),
+                    )
+                })
+            }
+            fn update_context(&self, id: usize, actuator: Actuator) -> LawContext {
+                LawContext::new(0.0, 0, PERIOD_S, actuator, id, 7)
+            }
+            fn command_context(&self, id: usize, actuator: Actuator) -> LawContext {
+                self.update_context(id, actuator).for_command()
+            }
+            fn applied(&self, _: Actuator, command: Vector3<f64>) -> Vector3<f64> {
+                command
+            }
+        }
+
+        let n = 6000;
+        let states = random_swarm(n);
+        let masses_kg = vec![10.0; n];
+        let active: Vec<bool> = (0..n).map(|i| i % 13 != 5).collect();
+        let grid = grid_of(&states);
+        let swarm = view(&states, &masses_kg, &active, &active, &grid, 0.0);
+        let tick = Tick { active: &active };
+        let (mut reference, mut fused) = (Law::new(Nested), Law::new(Nested));
+        reference.initialise(&swarm).unwrap();
+        fused.initialise(&swarm).unwrap();
+        reference.update_states_in_id_order(&swarm, &active, &|i| {
+            tick.update_context(i, Actuator::new(5.0, LimitKind::PerAxis))
+        });
+        let expected: Vec<Vector3<f64>> = (0..n)
+            .map(|i| match tick.own(&swarm, i, grid.slot(i)) {
+                Some((_, actuator)) => {
+                    reference.command(&swarm.satellite(i), &tick.command_context(i, actuator))
+                }
+                None => Vector3::zeros(),
+            })
+            .collect();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let mut by_slot = vec![Vector3::zeros(); n];
+        assert!(pool.install(|| fused.update_states_and_commands(&swarm, &tick, &mut by_slot)));
+        for i in 0..n {
+            assert_eq!(expected[i], by_slot[grid.slot(i)], "satellite {i}");
+        }
+        assert_eq!(
+            reference.states::<Nested>().unwrap(),
+            fused.states::<Nested>().unwrap()
+        );
     }
 }
