@@ -19,8 +19,9 @@
 //!   up to 64 candidates, the slots that pass appended without a branch (most candidates fail,
 //!   unpredictably; module `prefilter`: a portable loop, and an AVX-512 copy chosen at run time that passes
 //!   the same candidates). The passing slots of all rows are buffered, then the exact test and the
-//!   visits run in one loop in slot order. A reach below the cell edge keeps only the cells that the
-//!   box `[p − reach, p + reach]` meets. The answers and their order are those of a plain slot-by-slot
+//!   visits run in one loop in slot order. A query keeps only the cells that the box
+//!   `[p − reach, p + reach]` meets (often the satellite's own cell alone for a reach well below the
+//!   cell edge). The answers and their order are those of a plain slot-by-slot
 //!   walk of the whole block (tested).
 //! * [`NeighbourGrid::mask`] hides satellites from every query until the next build (the engine hides
 //!   removed and unlinked ones), so a caller need not look up per-neighbour flags by index.
@@ -71,6 +72,9 @@ const PARALLEL_MIN_LEN: usize = 8192;
 
 /// Candidates whose squared distances a fixed-radius query computes in one branch-free batch.
 const SCAN_BATCH: usize = 64;
+
+// The AVX-512 prefilter stores eight slots at a time at the running count: its bound needs this.
+const _: () = assert!(SCAN_BATCH.is_multiple_of(8) && SCAN_BATCH >= 8);
 
 /// Candidate slots a query buffers (after the squared-distance prefilter) before it visits them.
 const PASSED_CAPACITY: usize = 4 * SCAN_BATCH;
@@ -489,8 +493,9 @@ impl NeighbourGrid {
     }
 
     /// Like [`Self::for_each_neighbour`] but with any reach `reach_m` (m), smaller or larger than the grid
-    /// radius. A reach of a few cells walks the `(2k + 1)³` cells around `i`; a reach whose block of cells
-    /// exceeds the swarm size scans all satellites. A negative or NaN reach visits nothing. Never
+    /// radius. A reach of a few cells walks the cells of the `(2k + 1)³` block around `i` that the box
+    /// `[p − reach, p + reach]` meets; a reach whose block of cells exceeds the swarm size scans all
+    /// satellites. A negative or NaN reach visits nothing. Never
     /// allocates.
     ///
     /// # Panics

@@ -8,9 +8,10 @@
 //! each new state at its satellite's id; every state is computed on its own from the same inputs, so
 //! the states are bitwise those of the plain id-order update (kept for the tests), on any thread count.
 //!
-//! When a tick both updates the states and evaluates the commands (sampled control), the two run in
-//! one pass ([`Law::update_states_and_commands`]): each satellite's grid walk is collected once and
-//! replayed to the update and the command, with the bits of the two separate passes.
+//! When a tick both updates the states and evaluates the commands (sampled control, or the kinematic
+//! model), the two run in one pass ([`Law::update_states_and_commands`]): each satellite's grid walk
+//! is collected once and replayed to the update and the command, with the bits of the two separate
+//! passes.
 
 use std::any::Any;
 use std::collections::BTreeMap;
@@ -32,6 +33,22 @@ thread_local! {
     /// Per-thread buffer of the satellite's collected neighbour walk in the fused pass (so the pass
     /// never allocates once the buffers have grown).
     static SENSED: std::cell::RefCell<Vec<Neighbour>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The own data and actuators of the satellites `ids` (at most [`OWN_BATCH`]; grid slots from
+/// `first_slot` on), `None` for a removed one: copied out together, so the loads by id (scattered in
+/// memory on a large swarm) issue back to back and overlap.
+pub(crate) fn own_batch(
+    tick: &dyn TickEvaluation,
+    swarm: &SwarmView<'_>,
+    ids: &[u32],
+    first_slot: usize,
+) -> [Option<(OwnSample, Actuator)>; OWN_BATCH] {
+    let mut own = [None; OWN_BATCH];
+    for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
+        *own = tick.own(swarm, i as usize, first_slot + k);
+    }
+    own
 }
 
 /// What the engine supplies to the fused state-and-command pass of one tick
@@ -218,11 +235,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                     .zip(applied.chunks_mut(OWN_BATCH))
                     .zip(ids.chunks(OWN_BATCH));
                 for (batch, ((states, applied), ids)) in batches.enumerate() {
-                    let first_slot = chunk * CHUNK + batch * OWN_BATCH;
-                    let mut own = [None; OWN_BATCH];
-                    for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
-                        *own = tick.own(swarm, i as usize, first_slot + k);
-                    }
+                    let own = own_batch(tick, swarm, ids, chunk * CHUNK + batch * OWN_BATCH);
                     for ((state, applied), (own, &i)) in
                         states.iter_mut().zip(applied).zip(own.iter().zip(ids))
                     {

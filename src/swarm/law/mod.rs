@@ -33,8 +33,8 @@ use nalgebra::Vector3;
 use thiserror::Error;
 
 pub use context::LawContext;
+pub(crate) use handle::{own_batch, TickEvaluation, OWN_BATCH};
 pub use handle::{Law, LawParameters};
-pub(crate) use handle::{TickEvaluation, OWN_BATCH};
 pub(crate) use view::OwnSample;
 pub use view::{
     Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,

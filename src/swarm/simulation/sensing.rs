@@ -11,7 +11,7 @@ use crate::relative::SchweighartSedwick;
 use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::{
-    EnvironmentView, Law, LawContext, OwnSample, SatelliteView, SharedInfo, SwarmView,
+    own_batch, EnvironmentView, Law, LawContext, OwnSample, SatelliteView, SharedInfo, SwarmView,
     TickEvaluation, OWN_BATCH,
 };
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
@@ -278,17 +278,12 @@ impl<'a> Plant<'a> {
             .zip(order.par_chunks(CHUNK))
             .enumerate()
             .for_each(|(chunk, (outs, ids))| {
-                let first_slot = chunk * CHUNK;
                 for (batch, (outs, ids)) in outs
                     .chunks_mut(OWN_BATCH)
                     .zip(ids.chunks(OWN_BATCH))
                     .enumerate()
                 {
-                    let first_slot = first_slot + batch * OWN_BATCH;
-                    let mut own = [None; OWN_BATCH];
-                    for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
-                        *own = evaluation.own(view, i as usize, first_slot + k);
-                    }
+                    let own = own_batch(&evaluation, view, ids, chunk * CHUNK + batch * OWN_BATCH);
                     for (out, own) in outs.iter_mut().zip(own) {
                         *out = own.map_or_else(Vector3::zeros, |(own, actuator)| {
                             self.applied(law, &view.satellite_with(own), actuator, tick)
@@ -416,35 +411,64 @@ mod tests {
 
     /// The fused pass of a stateful law (one grid walk per satellite, replayed to the state update and
     /// the command) gives exactly the states and applied commands of the two separate passes, at 1 and
-    /// 3 threads, with removed and link-cut satellites, over several ticks (so the states it reads are
-    /// its own earlier outputs).
+    /// 3 threads, over several ticks (so the states it reads are its own earlier outputs): pigeon under
+    /// J2 with sampled control and removed and link-cut satellites, and equilibrium shaping in the
+    /// kinematic model with continuous control (the scenario `es-e0`).
     #[test]
     fn fused_state_and_command_pass_equals_the_two_passes_bitwise() {
+        use crate::guidance::equilibrium_shaping::EquilibriumShaping;
         use crate::guidance::pigeon::Pigeon;
-        let text = "name = \"t\"\nseed = 3\nduration_s = 100.0\nrecord_interval_s = 100.0\n\
-                    [dynamics]\nmodel = \"j2\"\nintegrator = \"rk4\"\nstep_s = 0.05\n\
-                    [reference]\naltitude_m = 600e3\ninclination_deg = 98.0\n\
-                    [control]\nmode = \"sampled\"\nperiod_s = 0.05\n\
-                    [satellites]\ncount = 3000\nmass_kg = 10.0\nradius_m = 0.05\n\
-                    max_accel_mps2 = 5.0\naccel_limit = \"per-axis\"\n\
-                    initial = { distribution = \"sphere\", radius_m = 400.0 }\n\
-                    [sensing]\nrange_m = 60.0\n[law]\nname = \"pigeon\"\nswitching = true\n\
-                    egalitarian_range_m = 50.0\nhierarchical_range_m = 60.0\n\
-                    [output]\ntrajectory = false\n";
+        let pigeon = "name = \"t\"\nseed = 3\nduration_s = 100.0\nrecord_interval_s = 100.0\n\
+                      [dynamics]\nmodel = \"j2\"\nintegrator = \"rk4\"\nstep_s = 0.05\n\
+                      [reference]\naltitude_m = 600e3\ninclination_deg = 98.0\n\
+                      [control]\nmode = \"sampled\"\nperiod_s = 0.05\n\
+                      [satellites]\ncount = 3000\nmass_kg = 10.0\nradius_m = 0.05\n\
+                      max_accel_mps2 = 5.0\naccel_limit = \"per-axis\"\n\
+                      initial = { distribution = \"sphere\", radius_m = 400.0 }\n\
+                      [sensing]\nrange_m = 60.0\n[law]\nname = \"pigeon\"\nswitching = true\n\
+                      egalitarian_range_m = 50.0\nhierarchical_range_m = 60.0\n\
+                      [output]\ntrajectory = false\n";
+        fused_equals_two_passes::<Pigeon>(pigeon, true, 0, 4);
+        // The threat comes within the satellites' 10 m reach after about 20 s (400 steps).
+        let es = include_str!("../../../scenarios/es-e0.toml");
+        fused_equals_two_passes::<EquilibriumShaping>(es, false, 380, 80);
+    }
+
+    /// See [`fused_state_and_command_pass_equals_the_two_passes_bitwise`]: `ticks` ticks of the
+    /// scenario `text` whose law is `L` after `warmup` steps, with every 7th satellite removed and every
+    /// 11th (from the 4th) link-cut when `faults`.
+    fn fused_equals_two_passes<L: crate::swarm::GuidanceLaw>(
+        text: &str,
+        faults: bool,
+        warmup: usize,
+        ticks: u64,
+    ) where
+        L::State: PartialEq + std::fmt::Debug,
+    {
         let scenario = Scenario::from_toml(text, "t", Path::new(".")).unwrap();
         let prepare = || {
             let mut sim = build_simulation(&scenario).unwrap();
-            for i in (0..3000).step_by(7) {
-                sim.fleet.active[i] = false;
-            }
-            for i in (3..3000).step_by(11) {
-                sim.fleet.links_up[i] = false;
+            let n = sim.fleet.active.len();
+            if faults {
+                for i in (0..n).step_by(7) {
+                    sim.fleet.active[i] = false;
+                }
+                for i in (3..n).step_by(11) {
+                    sim.fleet.links_up[i] = false;
+                }
             }
             sim
         };
         let mut reference = prepare();
         let mut fused = [prepare(), prepare()];
-        for tick in 0..4u64 {
+        for _ in 0..warmup {
+            reference.step().unwrap();
+            for sim in &mut fused {
+                sim.step().unwrap();
+            }
+        }
+        let mut moved = false;
+        for tick in 0..ticks {
             let n = reference.fleet.active.len();
             let mut expected = vec![Vector3::zeros(); n];
             {
@@ -463,7 +487,7 @@ mod tests {
                 let mut scratch = vec![Vector3::zeros(); n];
                 plant.commands_in_cell_order(&sim.law, &view, tick, &mut scratch, &mut expected);
             }
-            assert!(expected.iter().any(|u| u.norm() > 0.0));
+            moved |= expected.iter().any(|u| u.norm() > 0.0);
             for (threads, sim) in [1, 3].into_iter().zip(&mut fused) {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -498,8 +522,8 @@ mod tests {
                     }
                 }
                 assert_eq!(
-                    reference.law.states::<Pigeon>().unwrap(),
-                    sim.law.states::<Pigeon>().unwrap(),
+                    reference.law.states::<L>().unwrap(),
+                    sim.law.states::<L>().unwrap(),
                     "tick {tick}, {threads} threads"
                 );
             }
@@ -509,6 +533,7 @@ mod tests {
                 sim.step().unwrap();
             }
         }
+        assert!(moved, "no satellite was commanded");
     }
 
     /// Cell-order evaluation gives exactly the bits of the plain id-order evaluation, at 1 and 3
