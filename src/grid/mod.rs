@@ -823,13 +823,7 @@ mod tests {
     /// the swarm, and queries passing more candidates than the buffer holds).
     #[test]
     fn batched_query_visits_exactly_what_the_plain_walk_visits() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut uniform = prefilter::tests::uniform_draws(0x2545_f491_4f6c_dd1d);
         let mut g = NeighbourGrid::new();
         let (mut visited, mut most) = (0, 0);
         for (offset, spread, lattice) in [

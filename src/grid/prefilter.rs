@@ -191,17 +191,21 @@ pub(super) mod tests {
         copies
     }
 
-    /// Both copies pass exactly the candidates a plain `<=` test on the squared distance passes, in
-    /// ascending order, for every batch length from 0 to SCAN_BATCH and candidates exactly at the reach.
-    #[test]
-    fn both_copies_pass_what_the_plain_test_passes() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = move || {
+    /// Uniform draws in [0, 1) from a xorshift64 generator seeded with `seed` (test data only).
+    pub(in crate::grid) fn uniform_draws(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        }
+    }
+
+    /// Both copies pass exactly the candidates a plain `<=` test on the squared distance passes, in
+    /// ascending order, for every batch length from 0 to SCAN_BATCH and candidates exactly at the reach.
+    #[test]
+    fn both_copies_pass_what_the_plain_test_passes() {
+        let mut uniform = uniform_draws(0x9e37_79b9_7f4a_7c15);
         let p = [1.5, -2.0, 0.25];
         let reach2 = 1.0;
         for n in 0..=SCAN_BATCH {
