@@ -709,6 +709,8 @@ mod tests {
         }
     }
 
+    /// Every copy, on 1, 2 and 4 threads, with the default fork-join threshold and with forking at any
+    /// work, gives the generic stepper's bits.
     #[test]
     fn bitwise_identical_to_the_generic_rk4_for_every_copy_and_thread_count() {
         let intervals = [(0.3, 7.55, 1.0), (10.0, 10.3, 0.1), (0.0, 60.0, 5.0)];
@@ -723,10 +725,19 @@ mod tests {
                 ] {
                     for interval in intervals {
                         let want = reference(&c, gravity, inputs, interval);
-                        for simd in Simd::ALL.into_iter().filter(|s| s.is_available()) {
-                            let kernel = FusedRk4::new(gravity, EarthModel::WGS84_EGM96)
-                                .with_simd(simd)
-                                .unwrap();
+                        // The default fork-join threshold, and forking whatever the work.
+                        let kernels =
+                            Simd::ALL
+                                .into_iter()
+                                .filter(|s| s.is_available())
+                                .flat_map(|simd| {
+                                    let kernel = FusedRk4::new(gravity, EarthModel::WGS84_EGM96)
+                                        .with_simd(simd)
+                                        .unwrap();
+                                    [kernel, kernel.with_parallel_min_sat_steps(0)]
+                                });
+                        for kernel in kernels {
+                            let simd = kernel.simd();
                             for threads in [1, 2, 4] {
                                 let pool = rayon::ThreadPoolBuilder::new()
                                     .num_threads(threads)
