@@ -36,7 +36,8 @@
 //!
 //! **Visit order** (deterministic: it depends only on the positions and radius given to the last build,
 //! never on thread count or on earlier builds): rows of cells in ascending (z, y) cell order, within a row
-//! the cells in ascending x, within a cell the satellites in ascending index. If a query's block of cells
+//! the cells in ascending x, within a cell the satellites in ascending index (or ascending rank, for
+//! [`NeighbourGrid::build_ranked`]). If a query's block of cells
 //! would be larger than the swarm (a reach far beyond the cell size), the query scans all satellites in
 //! storage order instead (storage order is the cell order above).
 
@@ -114,6 +115,14 @@ pub enum NeighbourError {
         y: usize,
         /// Length of the z slice.
         z: usize,
+    },
+    /// A ranked build got a different number of ranks than positions.
+    #[error("{ranks} ranks for {points} positions")]
+    RankLength {
+        /// Number of positions.
+        points: usize,
+        /// Number of ranks.
+        ranks: usize,
     },
     /// A coordinate is NaN or infinite. The grid refuses the whole swarm rather than silently dropping a
     /// satellite; filter lost satellites out before building.
@@ -230,6 +239,25 @@ impl NeighbourGrid {
         z_m: &[f64],
         radius_m: f64,
     ) -> Result<(), NeighbourError> {
+        self.build_ranked(x_m, y_m, z_m, radius_m, None)
+    }
+
+    /// [`Self::build`] with each cell's satellites stored (and so visited) in ascending `rank[i]`
+    /// instead of ascending index `i` (ranks distinct; `None`: the index). The engine keeps its
+    /// satellites in a storage order of its own and ranks them by id, so every query visits exactly as
+    /// over the same positions given in id order.
+    ///
+    /// # Errors
+    /// Those of [`Self::build`]; [`NeighbourError::RankLength`] unless `rank` has one entry per
+    /// satellite.
+    pub fn build_ranked(
+        &mut self,
+        x_m: &[f64],
+        y_m: &[f64],
+        z_m: &[f64],
+        radius_m: f64,
+        rank: Option<&[u32]>,
+    ) -> Result<(), NeighbourError> {
         self.clear();
         if !(radius_m.is_finite() && radius_m > 0.0) {
             return Err(NeighbourError::InvalidRadius { radius_m });
@@ -240,6 +268,12 @@ impl NeighbourGrid {
                 x: n,
                 y: y_m.len(),
                 z: z_m.len(),
+            });
+        }
+        if let Some(rank) = rank.filter(|r| r.len() != n) {
+            return Err(NeighbourError::RankLength {
+                points: n,
+                ranks: rank.len(),
             });
         }
         if n > MAX_POINTS {
@@ -308,6 +342,17 @@ impl NeighbourGrid {
         match self.layout {
             GridLayout::Dense => self.sort_dense(x_m, y_m, z_m, cells as usize),
             GridLayout::Sparse => self.sort_sparse(x_m, y_m, z_m),
+        }
+        if let Some(rank) = rank {
+            // Within each cell (already in ascending index), by rank: nearly sorted when the storage
+            // order follows the ranks, which the sort exploits.
+            let items = &mut self.items;
+            for window in self.cell_start.windows(2) {
+                let (start, end) = (window[0] as usize, window[1] as usize);
+                if end - start > 1 {
+                    items[start..end].sort_unstable_by_key(|&i| rank[i as usize]);
+                }
+            }
         }
         self.xs.resize(n, 0.0);
         self.ys.resize(n, 0.0);
@@ -878,6 +923,68 @@ mod tests {
         assert!(
             most > PASSED_CAPACITY,
             "no query filled the candidate buffer: at most {most} neighbours"
+        );
+    }
+
+    /// A ranked build over positions in a shuffled storage order, ranked by their original index,
+    /// answers every query with exactly the neighbours, in exactly the order, of the plain build over the
+    /// positions in original order (indices mapped back through the shuffle), on dense and sparse
+    /// layouts and with crowded cells; a rank slice of the wrong length is refused.
+    #[test]
+    fn ranked_build_visits_as_the_build_in_rank_order() {
+        let mut uniform = prefilter::tests::uniform_draws(0x9e37_79b9_7f4a_7c15);
+        let (mut visited, mut layouts) = (0, Vec::new());
+        for (spread, radius) in [(100.0, 8.0), (2e4, 900.0), (4.0, 3.0)] {
+            let n = 1200;
+            let original: Vec<[f64; 3]> = (0..n)
+                .map(|_| [uniform() * spread, uniform() * spread, uniform() * spread])
+                .collect();
+            // storage[k] holds original index perm[k] (a fixed shuffle).
+            let mut perm: Vec<usize> = (0..n).collect();
+            for k in (1..n).rev() {
+                perm.swap(k, (uniform() * (k + 1) as f64) as usize % (k + 1));
+            }
+            let rank: Vec<u32> = perm.iter().map(|&i| i as u32).collect();
+            let axis = |a: usize, order: &dyn Fn(usize) -> usize| -> Vec<f64> {
+                (0..n).map(|k| original[order(k)][a]).collect()
+            };
+            let (mut plain, mut ranked) = (NeighbourGrid::new(), NeighbourGrid::new());
+            let id = |k: usize| k;
+            let shuffled = |k: usize| perm[k];
+            plain
+                .build(&axis(0, &id), &axis(1, &id), &axis(2, &id), radius)
+                .unwrap();
+            ranked
+                .build_ranked(
+                    &axis(0, &shuffled),
+                    &axis(1, &shuffled),
+                    &axis(2, &shuffled),
+                    radius,
+                    Some(&rank),
+                )
+                .unwrap();
+            assert_eq!(plain.layout(), ranked.layout());
+            layouts.push(ranked.layout());
+            for (k, &i) in perm.iter().enumerate() {
+                let (mut a, mut b) = (Vec::new(), Vec::new());
+                plain.for_each_neighbour(i, |nb| a.push(nb));
+                ranked.for_each_neighbour(k, |mut nb| {
+                    nb.index = perm[nb.index];
+                    b.push(nb);
+                });
+                assert_eq!(a, b, "satellite {i} (stored at {k}), spread {spread}");
+                visited += a.len();
+            }
+        }
+        assert!(visited > 100_000, "too few neighbours to test: {visited}");
+        assert!(layouts.contains(&GridLayout::Sparse) && layouts.contains(&GridLayout::Dense));
+        let mut g = NeighbourGrid::new();
+        assert_eq!(
+            g.build_ranked(&[0.0; 3], &[0.0; 3], &[0.0; 3], 1.0, Some(&[0, 1])),
+            Err(NeighbourError::RankLength {
+                points: 3,
+                ranks: 2
+            })
         );
     }
 
