@@ -338,13 +338,13 @@ fn regress_fuzz_neighbours_of_an_empty_grid_are_none() {
     }; 2];
     let grid = NeighbourGrid::new(); // never built: empty
     let flags = [true; 2];
-    let view = SwarmView {
-        relative_states: &states,
-        masses_kg: &[1.0, 1.0],
-        active: &flags,
-        links_up: &flags,
-        grid: &grid,
-        shared: SharedInfo {
+    let view = SwarmView::new(
+        &states,
+        &[1.0, 1.0],
+        &flags,
+        &flags,
+        &grid,
+        SharedInfo {
             time_s: 0.0,
             mean_motion_rad_s: 1e-3,
             sensing_range_m: 10.0,
@@ -356,8 +356,8 @@ fn regress_fuzz_neighbours_of_an_empty_grid_are_none() {
                 1.08262668e-3,
             ),
         },
-        environment: EnvironmentView::default(),
-    };
+        EnvironmentView::default(),
+    );
     let mut visited = 0;
     view.satellite(1).for_each_neighbour(|_| visited += 1);
     assert_eq!(visited, 0);

@@ -420,13 +420,13 @@ fn val_command_matches_hand_computation() {
     grid.build(&x, &y, &z, 200.0).unwrap();
     let masses = [100.0; 4];
     let flags = [true; 4];
-    let view = satflock::swarm::SwarmView {
-        relative_states: &states,
-        masses_kg: &masses,
-        active: &flags,
-        links_up: &flags,
-        grid: &grid,
-        shared: satflock::swarm::SharedInfo {
+    let view = satflock::swarm::SwarmView::new(
+        &states,
+        &masses,
+        &flags,
+        &flags,
+        &grid,
+        satflock::swarm::SharedInfo {
             time_s: 0.0,
             mean_motion_rad_s: 1.08e-3,
             sensing_range_m: 200.0,
@@ -438,8 +438,8 @@ fn val_command_matches_hand_computation() {
                 1.08262668e-3,
             ),
         },
-        environment: satflock::swarm::EnvironmentView::default(),
-    };
+        satflock::swarm::EnvironmentView::default(),
+    );
     let context = satflock::swarm::LawContext::new(
         0.0,
         0,

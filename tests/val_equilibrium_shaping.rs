@@ -355,13 +355,13 @@ impl Scene {
 
     fn view(&self, time_s: f64) -> SwarmView<'_> {
         let earth = EarthModel::WGS84_EGM96;
-        SwarmView {
-            relative_states: &self.states,
-            masses_kg: &self.masses_kg,
-            active: &self.flags,
-            links_up: &self.flags,
-            grid: &self.grid,
-            shared: SharedInfo {
+        SwarmView::new(
+            &self.states,
+            &self.masses_kg,
+            &self.flags,
+            &self.flags,
+            &self.grid,
+            SharedInfo {
                 time_s,
                 mean_motion_rad_s: n(),
                 sensing_range_m: self.range_m,
@@ -373,12 +373,12 @@ impl Scene {
                     0.0,
                 ),
             },
-            environment: EnvironmentView {
+            EnvironmentView {
                 threats: &self.threats,
                 obstacles: &[],
                 threat_warnings: &self.warnings,
             },
-        }
+        )
     }
 }
 

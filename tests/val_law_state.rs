@@ -393,7 +393,7 @@ fn val_stateful_law_is_bitwise_identical_on_1_2_and_4_threads() {
                 (
                     bits(sim.state().as_slice().iter().copied()),
                     bits(sim.law_outputs()),
-                    hill_bits(sim.states_hill()),
+                    hill_bits(&sim.states_hill()),
                     c.outputs,
                 )
             });

@@ -432,13 +432,13 @@ impl Scene {
 
     fn view(&self) -> SwarmView<'_> {
         let earth = EarthModel::WGS84_EGM96;
-        SwarmView {
-            relative_states: &self.states,
-            masses_kg: &self.masses_kg,
-            active: &self.flags,
-            links_up: &self.flags,
-            grid: &self.grid,
-            shared: SharedInfo {
+        SwarmView::new(
+            &self.states,
+            &self.masses_kg,
+            &self.flags,
+            &self.flags,
+            &self.grid,
+            SharedInfo {
                 time_s: 0.0,
                 mean_motion_rad_s: n(),
                 sensing_range_m: 200.0,
@@ -450,12 +450,12 @@ impl Scene {
                     0.0,
                 ),
             },
-            environment: EnvironmentView {
+            EnvironmentView {
                 threats: &[],
                 obstacles: &self.obstacles,
                 threat_warnings: &[],
             },
-        }
+        )
     }
 }
 

@@ -155,7 +155,7 @@ impl PySimulation {
     /// Number of satellites N (removed ones included).
     #[getter]
     fn n_satellites(&self) -> usize {
-        self.simulation.active().len()
+        self.simulation.satellite_count()
     }
 
     /// Positions relative to the LVLH origin, Hill frame, (N, 3) [m]: a read-only copy, NaN rows for
@@ -207,7 +207,7 @@ impl PySimulation {
     /// Whether each satellite is still in the swarm, (N,) bool (a read-only copy).
     #[getter]
     fn active<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        readonly(PyArray1::from_slice(py, self.simulation.active()).into_any())
+        readonly(PyArray1::from_vec(py, self.simulation.active()).into_any())
     }
 
     /// The running law's per-satellite outputs now: a dict name -> (N,) read-only array (units in the

@@ -158,6 +158,13 @@ impl SeparationTracker {
         Self::default()
     }
 
+    /// Forgets the last full search, keeping the buffers: the next update is a full search. For a
+    /// caller whose ids changed meaning since the last update (the engine re-sorting its storage).
+    pub fn forget_anchors(&mut self) {
+        self.anchors.clear();
+        self.closest = None;
+    }
+
     /// Full searches done so far (the first update, and whenever the bound let too many through).
     pub fn full_searches(&self) -> u64 {
         self.full_searches

@@ -87,6 +87,18 @@ impl SwarmState {
         }
     }
 
+    /// Every per-satellite component (x, y, z, vx, vy, vz, then the four ledger components), each as
+    /// one slice over the satellites.
+    pub(crate) fn satellite_components(&self) -> impl Iterator<Item = &[f64]> {
+        self.data[REFERENCE_COMPONENTS..].chunks_exact(self.n.max(1))
+    }
+
+    /// [`Self::satellite_components`], mutable.
+    pub(crate) fn satellite_components_mut(&mut self) -> impl Iterator<Item = &mut [f64]> {
+        let n = self.n;
+        self.data[REFERENCE_COMPONENTS..].chunks_exact_mut(n.max(1))
+    }
+
     /// Delta-v ledger of satellite `i`: per LVLH Hill axis \[m/s\] and in norm \[m/s\].
     pub fn ledger(&self, i: usize) -> ([f64; 3], f64) {
         let n = self.n;

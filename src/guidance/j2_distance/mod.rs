@@ -1060,15 +1060,15 @@ mod tests {
             .unwrap();
         let flags = vec![true; states.len()];
         let masses = vec![0.5; states.len()];
-        let view = SwarmView {
-            relative_states: &states,
-            masses_kg: &masses,
-            active: &flags,
-            links_up: &flags,
-            grid: &grid,
+        let view = SwarmView::new(
+            &states,
+            &masses,
+            &flags,
+            &flags,
+            &grid,
             shared,
-            environment: EnvironmentView::default(),
-        };
+            EnvironmentView::default(),
+        );
         law.initialise(&view, &mut []).unwrap();
         law.centralised_update(&view).unwrap();
         let results = law.results(&view, &[]);

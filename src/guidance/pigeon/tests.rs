@@ -40,13 +40,13 @@ impl Scene {
 
     fn view(&self) -> SwarmView<'_> {
         let earth = EarthModel::WGS84_EGM96;
-        SwarmView {
-            relative_states: &self.states,
-            masses_kg: &self.masses_kg,
-            active: &self.flags,
-            links_up: &self.flags,
-            grid: &self.grid,
-            shared: SharedInfo {
+        SwarmView::new(
+            &self.states,
+            &self.masses_kg,
+            &self.flags,
+            &self.flags,
+            &self.grid,
+            SharedInfo {
                 time_s: 0.0,
                 mean_motion_rad_s: earth.mean_motion_rad_s(7.4e6),
                 sensing_range_m: RANGE_M,
@@ -58,8 +58,8 @@ impl Scene {
                     0.0,
                 ),
             },
-            environment: EnvironmentView::default(),
-        }
+            EnvironmentView::default(),
+        )
     }
 }
 

@@ -35,17 +35,18 @@ thread_local! {
     static SENSED: std::cell::RefCell<Vec<Neighbour>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
-/// The own data and actuators of the satellites `ids` (at most [`OWN_BATCH`]; grid slots from
-/// `first_slot` on), `None` for a removed one: copied out together, so the loads by id (scattered in
-/// memory on a large swarm) issue back to back and overlap.
+/// The own data and actuators of the satellites at entries `indices` of the view's slices (at most
+/// [`OWN_BATCH`]; grid slots from `first_slot` on), `None` for a removed one: copied out together, so
+/// the loads (scattered in memory when the storage order strays from the cell order) issue back to
+/// back and overlap.
 pub(crate) fn own_batch(
     tick: &dyn TickEvaluation,
     swarm: &SwarmView<'_>,
-    ids: &[u32],
+    indices: &[u32],
     first_slot: usize,
 ) -> [Option<(OwnSample, Actuator)>; OWN_BATCH] {
     let mut own = [None; OWN_BATCH];
-    for (k, (own, &i)) in own.iter_mut().zip(ids).enumerate() {
+    for (k, (own, &i)) in own.iter_mut().zip(indices).enumerate() {
         *own = tick.own(swarm, i as usize, first_slot + k);
     }
     own
@@ -54,8 +55,14 @@ pub(crate) fn own_batch(
 /// What the engine supplies to the fused state-and-command pass of one tick
 /// ([`Law::update_states_and_commands`]).
 pub(crate) trait TickEvaluation: Sync {
-    /// Satellite `id`'s own data (its grid slot is `slot`) and actuator; `None` for a removed satellite.
-    fn own(&self, swarm: &SwarmView<'_>, id: usize, slot: usize) -> Option<(OwnSample, Actuator)>;
+    /// The own data and actuator of the satellite at entry `index` of the view's slices (its grid slot
+    /// is `slot`); `None` for a removed satellite.
+    fn own(
+        &self,
+        swarm: &SwarmView<'_>,
+        index: usize,
+        slot: usize,
+    ) -> Option<(OwnSample, Actuator)>;
     /// The context of satellite `id`'s state update.
     fn update_context(&self, id: usize, actuator: Actuator) -> LawContext;
     /// The context of satellite `id`'s command.
@@ -173,16 +180,18 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         }
         let Self { law, current, next } = self;
         let previous = &*current;
-        let update = |i: usize, out: &mut L::State| {
-            if active[i] {
+        // The satellite at entry `index` of the view's slices (states are by id).
+        let update = |index: usize, out: &mut L::State| {
+            let id = swarm.id_at(index);
+            if active[index] {
                 law.update_state_into(
-                    &swarm.satellite(i),
-                    &Broadcast::new(i, previous),
-                    &context(i),
+                    &swarm.satellite_at(index),
+                    &Broadcast::new(id, previous),
+                    &context(index),
                     out,
                 );
             } else {
-                out.clone_from(&previous[i]);
+                out.clone_from(&previous[id]);
             }
         };
         let grid = swarm.grid;
@@ -192,16 +201,16 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
             next.par_iter_mut()
                 .zip(cells.par_iter())
                 .with_min_len(CHUNK)
-                .for_each(|(out, &i)| update(i as usize, out));
+                .for_each(|(out, &index)| update(index as usize, out));
             // ...and each goes to its id, leaving the outdated one in the slot for reuse.
-            for (i, state) in current.iter_mut().enumerate() {
-                std::mem::swap(state, &mut next[grid.slot(i)]);
+            for (id, state) in current.iter_mut().enumerate() {
+                std::mem::swap(state, &mut next[grid.slot(swarm.index_of(id))]);
             }
         } else {
             next.par_iter_mut()
                 .with_min_len(CHUNK)
                 .enumerate()
-                .for_each(|(i, out)| update(i, out));
+                .for_each(|(id, out)| update(swarm.index_of(id), out));
             std::mem::swap(current, next);
         }
     }
@@ -225,7 +234,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
             .zip(applied_by_slot.par_chunks_mut(CHUNK))
             .zip(cells.par_chunks(CHUNK))
             .enumerate()
-            .for_each(|(chunk, ((states, applied), ids))| {
+            .for_each(|(chunk, ((states, applied), indices))| {
                 // The buffer is taken out of the thread-local for the chunk, not borrowed across the
                 // law's calls: a law that runs rayon work of its own may have this thread pick up
                 // another chunk meanwhile, which then starts from an empty buffer instead of panicking.
@@ -233,36 +242,36 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                 let batches = states
                     .chunks_mut(OWN_BATCH)
                     .zip(applied.chunks_mut(OWN_BATCH))
-                    .zip(ids.chunks(OWN_BATCH));
-                for (batch, ((states, applied), ids)) in batches.enumerate() {
-                    let own = own_batch(tick, swarm, ids, chunk * CHUNK + batch * OWN_BATCH);
-                    for ((state, applied), (own, &i)) in
-                        states.iter_mut().zip(applied).zip(own.iter().zip(ids))
+                    .zip(indices.chunks(OWN_BATCH));
+                for (batch, ((states, applied), indices)) in batches.enumerate() {
+                    let own = own_batch(tick, swarm, indices, chunk * CHUNK + batch * OWN_BATCH);
+                    for ((state, applied), (own, &index)) in
+                        states.iter_mut().zip(applied).zip(own.iter().zip(indices))
                     {
-                        let i = i as usize;
                         let Some((own, actuator)) = *own else {
-                            state.clone_from(&previous[i]);
+                            state.clone_from(&previous[swarm.id_at(index as usize)]);
                             *applied = Vector3::zeros();
                             continue;
                         };
                         swarm.satellite_with(own).collect_neighbours(&mut sensed);
                         let satellite = swarm.satellite_sensing(own, &sensed);
+                        let id = own.id;
                         law.update_state_into(
                             &satellite,
-                            &Broadcast::new(i, previous),
-                            &tick.update_context(i, actuator),
+                            &Broadcast::new(id, previous),
+                            &tick.update_context(id, actuator),
                             state,
                         );
                         let command =
-                            law.command(&satellite, state, &tick.command_context(i, actuator));
+                            law.command(&satellite, state, &tick.command_context(id, actuator));
                         *applied = tick.applied(actuator, command);
                     }
                 }
                 SENSED.set(sensed);
             });
         // Each state goes to its id, leaving the outdated one in the slot for reuse.
-        for (i, state) in current.iter_mut().enumerate() {
-            std::mem::swap(state, &mut next[grid.slot(i)]);
+        for (id, state) in current.iter_mut().enumerate() {
+            std::mem::swap(state, &mut next[grid.slot(swarm.index_of(id))]);
         }
         true
     }
@@ -403,7 +412,8 @@ impl Law {
     }
 
     /// Updates every live satellite's state (removed satellites keep theirs), evaluating the satellites
-    /// in the sensing grid's cell order: the same bits as [`Self::update_states_in_id_order`], faster
+    /// in the sensing grid's cell order (`active` and `context` take a satellite's entry in the view's
+    /// slices; the states are by id): the same bits as [`Self::update_states_in_id_order`], faster
     /// on large swarms. Falls back to id order when the grid does not hold every satellite (left empty
     /// by a non-finite navigation position).
     pub(crate) fn update_states(

@@ -46,13 +46,13 @@ pub fn view<'a>(
     time_s: f64,
 ) -> SwarmView<'a> {
     let earth = EarthModel::WGS84_EGM96;
-    SwarmView {
-        relative_states: states,
+    SwarmView::new(
+        states,
         masses_kg,
         active,
         links_up,
         grid,
-        shared: SharedInfo {
+        SharedInfo {
             time_s,
             mean_motion_rad_s: earth.mean_motion_rad_s(7.0e6),
             sensing_range_m: RANGE_M,
@@ -64,6 +64,6 @@ pub fn view<'a>(
                 0.0,
             ),
         },
-        environment: EnvironmentView::default(),
-    }
+        EnvironmentView::default(),
+    )
 }

@@ -82,7 +82,7 @@ pub struct SensedObstacle {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct Neighbour {
-    /// The neighbour's index.
+    /// The neighbour's id.
     pub id: usize,
     /// The neighbour's state relative to the LVLH origin, Hill frame \[m, m/s\].
     pub state: RelativeStateHill,
@@ -115,6 +115,20 @@ pub struct SwarmView<'a> {
     pub shared: SharedInfo,
     /// Threats, obstacles and ground messages.
     pub environment: EnvironmentView<'a>,
+    /// Which satellite each entry of the slices holds when the engine stores its satellites in an
+    /// order of its own (`None`: entry `i` is satellite `i`). Views a law's whole-swarm hooks get are
+    /// always by id.
+    placement: Option<Placement<'a>>,
+}
+
+/// Which satellite id each entry of a view's per-satellite slices holds, and back: the engine's storage
+/// order (see `swarm/simulation/order.rs`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Placement<'a> {
+    /// Satellite id of each storage index.
+    pub id_of: &'a [u32],
+    /// Storage index of each satellite id.
+    pub index_of: &'a [u32],
 }
 
 /// What a law may check about the swarm it will steer before it runs: the same facts at load time (from
@@ -158,6 +172,58 @@ pub struct EnvironmentView<'a> {
 }
 
 impl<'a> SwarmView<'a> {
+    /// A view of the swarm whose per-satellite slices hold satellite `i` at index `i` (one entry per
+    /// satellite each), over `grid` built on those positions (see the fields).
+    pub fn new(
+        relative_states: &'a [RelativeStateHill],
+        masses_kg: &'a [f64],
+        active: &'a [bool],
+        links_up: &'a [bool],
+        grid: &'a NeighbourGrid,
+        shared: SharedInfo,
+        environment: EnvironmentView<'a>,
+    ) -> Self {
+        Self {
+            relative_states,
+            masses_kg,
+            active,
+            links_up,
+            grid,
+            shared,
+            environment,
+            placement: None,
+        }
+    }
+
+    /// This view with its slices (and its grid's indices) in the storage order `placement`.
+    pub(crate) fn in_storage_order(self, placement: Option<Placement<'a>>) -> Self {
+        Self { placement, ..self }
+    }
+
+    /// This view over another grid (built over the same positions, in the same storage order).
+    #[cfg(test)]
+    pub(crate) fn with_grid(self, grid: &'a NeighbourGrid) -> Self {
+        Self { grid, ..self }
+    }
+
+    /// The satellite id held at entry `index` of the slices.
+    #[inline]
+    pub(crate) fn id_at(&self, index: usize) -> usize {
+        match self.placement {
+            Some(p) => p.id_of[index] as usize,
+            None => index,
+        }
+    }
+
+    /// The entry of the slices that holds satellite `id`.
+    #[inline]
+    pub(crate) fn index_of(&self, id: usize) -> usize {
+        match self.placement {
+            Some(p) => p.index_of[id] as usize,
+            None => id,
+        }
+    }
+
     /// Number of satellites (including removed ones, whose `active` flag is false).
     pub fn len(&self) -> usize {
         self.relative_states.len()
@@ -170,8 +236,14 @@ impl<'a> SwarmView<'a> {
 
     /// The view satellite `id` is allowed to have.
     pub fn satellite(&self, id: usize) -> SatelliteView<'a> {
+        self.satellite_at(self.index_of(id))
+    }
+
+    /// The view of the satellite held at entry `index` of the slices.
+    pub(crate) fn satellite_at(&self, index: usize) -> SatelliteView<'a> {
         SatelliteView {
-            id,
+            id: self.id_at(index),
+            index,
             own: None,
             sensed: None,
             swarm: *self,
@@ -184,6 +256,7 @@ impl<'a> SwarmView<'a> {
     pub(crate) fn satellite_with(&self, own: OwnSample) -> SatelliteView<'a> {
         SatelliteView {
             id: own.id,
+            index: own.index,
             own: Some(own),
             sensed: None,
             swarm: *self,
@@ -203,6 +276,7 @@ impl<'a> SwarmView<'a> {
     {
         SatelliteView {
             id: own.id,
+            index: own.index,
             own: Some(own),
             sensed: Some(neighbours),
             swarm: *self,
@@ -213,8 +287,10 @@ impl<'a> SwarmView<'a> {
 /// A satellite's own data in a [`SwarmView`], copied out: its navigation state, mass and grid slot.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct OwnSample {
-    /// The satellite's index.
+    /// The satellite's id.
     pub id: usize,
+    /// Its entry in the view's slices.
+    pub index: usize,
     /// Its storage slot in the view's grid.
     pub slot: usize,
     /// Its navigation state, Hill frame \[m, m/s\].
@@ -226,14 +302,16 @@ pub(crate) struct OwnSample {
 }
 
 impl OwnSample {
-    /// Satellite `id`'s data in `swarm`, whose grid holds it in storage slot `slot`.
-    pub fn of(swarm: &SwarmView<'_>, id: usize, slot: usize) -> Self {
+    /// The data of the satellite at entry `index` of `swarm`'s slices, whose grid holds it in storage
+    /// slot `slot`.
+    pub fn of(swarm: &SwarmView<'_>, index: usize, slot: usize) -> Self {
         Self {
-            id,
+            id: swarm.id_at(index),
+            index,
             slot,
-            state: swarm.relative_states[id],
-            mass_kg: swarm.masses_kg[id],
-            links_up: swarm.links_up[id],
+            state: swarm.relative_states[index],
+            mass_kg: swarm.masses_kg[index],
+            links_up: swarm.links_up[index],
         }
     }
 }
@@ -242,6 +320,8 @@ impl OwnSample {
 #[derive(Clone, Copy)]
 pub struct SatelliteView<'a> {
     id: usize,
+    /// The satellite's entry in the view's slices.
+    index: usize,
     /// The satellite's own data when the engine copied it out (else read from `swarm` by id).
     own: Option<OwnSample>,
     /// The satellite's neighbours within sensing range, in walk order, when the engine already walked
@@ -251,7 +331,7 @@ pub struct SatelliteView<'a> {
 }
 
 impl SatelliteView<'_> {
-    /// This satellite's index.
+    /// This satellite's id (its index in the scenario).
     pub fn id(&self) -> usize {
         self.id
     }
@@ -260,7 +340,7 @@ impl SatelliteView<'_> {
     pub fn own_state(&self) -> RelativeStateHill {
         match &self.own {
             Some(own) => own.state,
-            None => self.swarm.relative_states[self.id],
+            None => self.swarm.relative_states[self.index],
         }
     }
 
@@ -268,7 +348,7 @@ impl SatelliteView<'_> {
     pub fn mass_kg(&self) -> f64 {
         match &self.own {
             Some(own) => own.mass_kg,
-            None => self.swarm.masses_kg[self.id],
+            None => self.swarm.masses_kg[self.index],
         }
     }
 
@@ -306,13 +386,13 @@ impl SatelliteView<'_> {
         }
         let links_up = self
             .own
-            .map_or_else(|| s.links_up[self.id], |own| own.links_up);
-        if !links_up || self.id >= s.grid.len() {
+            .map_or_else(|| s.links_up[self.index], |own| own.links_up);
+        if !links_up || self.index >= s.grid.len() {
             return;
         }
         let mut report = |nb: crate::grid::Neighbour| {
             visit(&Neighbour {
-                id: nb.index,
+                id: s.id_at(nb.index),
                 state: s.relative_states[nb.index],
                 offset_m: Vector3::new(nb.dx_m, nb.dy_m, nb.dz_m),
                 distance_m: nb.distance_m,
@@ -323,10 +403,10 @@ impl SatelliteView<'_> {
             // of the flags (by id, so scattered in memory).
             match &self.own {
                 Some(own) => s.grid.for_each_within_slot(own.slot, reach_m, report),
-                None => s.grid.for_each_within(self.id, reach_m, report),
+                None => s.grid.for_each_within(self.index, reach_m, report),
             }
         } else {
-            s.grid.for_each_within(self.id, reach_m, |nb| {
+            s.grid.for_each_within(self.index, reach_m, |nb| {
                 if s.active[nb.index] && s.links_up[nb.index] {
                     report(nb);
                 }

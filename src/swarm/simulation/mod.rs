@@ -10,6 +10,7 @@
 //! | `timeline` | applying the events that fall due |
 //! | `monitors` | truth checks after every segment: divergence, separation, threat approach, obstacle clearance |
 //! | `snapshots` | what a recorder receives at every recording time |
+//! | `order` | the storage order of the satellites (re-sorted by grid cell in sampled control) |
 //!
 //! Control timing (see `DESIGN.md`):
 //! * [`ControlTiming::Continuous`]: the law's command is evaluated inside the integrator's right-hand
@@ -24,9 +25,14 @@
 //! Determinism: every per-satellite computation is independent and written to its own slot; reductions
 //! are serial; every random draw comes from [`crate::random`] keyed by (seed, purpose, satellite, tick).
 //! Results are therefore bitwise identical for any number of threads.
+//!
+//! Storage order: every per-satellite array is kept in the engine's storage order (module `order`),
+//! re-sorted by grid cell in sampled control; ids, random streams, events, laws and outputs are by id,
+//! and no result depends on the storage order.
 
 mod config;
 mod monitors;
+mod order;
 mod propagation;
 mod scheduler;
 mod sensing;
@@ -52,8 +58,9 @@ use crate::swarm::events::{Event, EventAction, Selection};
 use crate::swarm::law::{Law, SwarmView};
 use crate::swarm::state::SwarmState;
 use monitors::LiveMetrics;
+use order::{StorageOrder, RESORT_PERIOD_TICKS};
 use propagation::{SampledBuffers, StageScratch};
-use sensing::{Fleet, Plant, Sensed};
+use sensing::{Fleet, FleetById, Plant, Sensed};
 
 /// How a segment's integration is done: the coupled system (continuous) or satellites alone (sampled).
 /// Only the buffers of the chosen mode are allocated.
@@ -63,6 +70,18 @@ enum Integration {
         scratch: Box<Mutex<StageScratch>>,
     },
     Sampled(SampledBuffers),
+}
+
+impl Integration {
+    /// Each satellite's remembered step size (adaptive sampled propagation), by storage index.
+    fn step_guesses_s(&mut self) -> Option<&mut Vec<Option<f64>>> {
+        match self {
+            Integration::Sampled(SampledBuffers::Generic { step_guesses_s, .. }) => {
+                Some(step_guesses_s)
+            }
+            _ => None,
+        }
+    }
 }
 
 /// Cumulative wall-clock time per stage of the engine since the simulation was built \[s\]: what
@@ -90,6 +109,7 @@ impl StageTimings {
 }
 
 /// A swarm simulation: state, satellites, law, environment, events, and the loop that advances them.
+/// Every per-satellite array below is in storage order (`fleet.order`); the law's states are by id.
 pub struct Simulation {
     config: SimulationConfig,
     state: SwarmState,
@@ -122,6 +142,8 @@ pub struct Simulation {
     held_control: Vec<Vector3<f64>>,
     /// Ticks started so far (the index of the next tick).
     tick: u64,
+    /// Ticks between re-sorts of the storage order (0: never; sampled control only).
+    resort_period_ticks: u64,
     /// Base steps completed (the scheduler's tick grid).
     step_count: u64,
     /// Index of the next recording time.
@@ -233,6 +255,7 @@ impl Simulation {
             actuators: satellites.iter().map(|s| s.actuator).collect(),
             active: vec![true; n],
             links_up: vec![true; n],
+            order: StorageOrder::identity(n),
         };
         let min_mass = fleet
             .masses_kg
@@ -271,6 +294,7 @@ impl Simulation {
             applied_hill: vec![Vector3::zeros(); n],
             held_control: vec![Vector3::zeros(); n],
             tick: 0,
+            resort_period_ticks: RESORT_PERIOD_TICKS,
             step_count: 0,
             record_count: 1,
             started: false,
@@ -304,24 +328,41 @@ impl Simulation {
         self.time_s
     }
 
-    /// Current state (reference, satellites and delta-v ledgers in one flat buffer).
-    pub fn state(&self) -> &SwarmState {
-        &self.state
+    /// Current state (reference, satellites by id and delta-v ledgers in one flat buffer; a copy).
+    pub fn state(&self) -> SwarmState {
+        let mut by_id = self.state.clone();
+        let order = &self.fleet.order;
+        for (to, from) in by_id
+            .satellite_components_mut()
+            .zip(self.state.satellite_components())
+        {
+            for (id, value) in to.iter_mut().enumerate() {
+                *value = from[order.index_of(id)];
+            }
+        }
+        by_id
     }
 
-    /// Which satellites are live.
-    pub fn active(&self) -> &[bool] {
-        &self.fleet.active
+    /// Number of satellites N (removed ones included).
+    pub fn satellite_count(&self) -> usize {
+        self.state.n()
     }
 
-    /// Every satellite's truth state now, relative to the LVLH origin, Hill frame \[m, m/s\].
-    pub fn states_hill(&self) -> &[RelativeStateHill] {
-        &self.truth
+    /// Which satellites are live, by id.
+    pub fn active(&self) -> Vec<bool> {
+        self.fleet.order.by_id(&self.fleet.active)
     }
 
-    /// Every satellite's inertial state now, ECI (the engine's inertial frame) \[m, m/s\].
+    /// Every satellite's truth state now, by id, relative to the LVLH origin, Hill frame \[m, m/s\].
+    pub fn states_hill(&self) -> Vec<RelativeStateHill> {
+        self.fleet.order.by_id(&self.truth)
+    }
+
+    /// Every satellite's inertial state now, by id, ECI (the engine's inertial frame) \[m, m/s\].
     pub fn states_eci(&self) -> Vec<CartesianState> {
-        snapshots::inertial_states(&self.config, &self.state)
+        self.fleet
+            .order
+            .by_id(&snapshots::inertial_states(&self.config, &self.state))
     }
 
     /// The Schweighart–Sedwick model of the reference orbit at t = 0 that laws get
@@ -375,7 +416,7 @@ impl Simulation {
     }
 
     /// Calls `f` with the running law and a whole-swarm view of the truth relative states now (no
-    /// navigation noise): the view the law's whole-swarm hooks get.
+    /// navigation noise), by id: the view the law's whole-swarm hooks get.
     fn with_truth_view<R>(&mut self, f: impl FnOnce(&mut Law, &SwarmView<'_>) -> R) -> R {
         let plant = Plant::new(
             &self.config,
@@ -383,7 +424,8 @@ impl Simulation {
             &self.threat_warnings,
             self.reference_model,
         );
-        let view = plant.view(self.time_s, &self.truth, None, &mut self.sensed);
+        let mut by_id = FleetById::default();
+        let view = plant.view_by_id(self.time_s, &self.truth, &mut self.sensed, &mut by_id);
         f(&mut self.law, &view)
     }
 

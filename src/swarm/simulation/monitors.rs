@@ -23,6 +23,12 @@ pub(super) struct LiveMetrics {
 }
 
 impl LiveMetrics {
+    /// Forgets the separation tracker's last full search (its anchors are by storage index, which a
+    /// re-sort changes): the next update searches afresh.
+    pub fn forget_anchors(&mut self) {
+        self.tracker.forget_anchors();
+    }
+
     pub fn new(n: usize) -> Self {
         Self {
             ids: Vec::with_capacity(n),
@@ -66,7 +72,7 @@ impl Simulation {
                     end.velocity_mps,
                 ) {
                     let _ = self.approach.observe_segment(
-                        i,
+                        self.fleet.order.id_at(i),
                         &segment,
                         &self.config.threats,
                         &self.config.obstacles,
@@ -79,30 +85,36 @@ impl Simulation {
 
     fn check_divergence(&self) -> Result<(), SimError> {
         let bound = self.config.max_distance_m;
-        for (i, rel) in self.truth.iter().enumerate() {
+        let diverged = |i: usize| -> Option<Divergence> {
             if !self.fleet.active[i] {
-                continue;
+                return None;
             }
+            let rel = &self.truth[i];
             let finite = rel.position_m.iter().all(|v| v.is_finite())
                 && rel.velocity_mps.iter().all(|v| v.is_finite());
-            let reason = if !finite {
-                Some(Divergence::NotFinite)
-            } else {
-                let distance_m = rel.position_m.norm();
-                (distance_m > bound).then_some(Divergence::TooFar {
-                    distance_m,
-                    limit_m: bound,
-                })
-            };
-            if let Some(reason) = reason {
-                return Err(SimError::Diverged {
-                    satellite: i,
-                    time_s: self.time_s,
-                    reason,
-                });
+            if !finite {
+                return Some(Divergence::NotFinite);
             }
+            let distance_m = rel.position_m.norm();
+            (distance_m > bound).then_some(Divergence::TooFar {
+                distance_m,
+                limit_m: bound,
+            })
+        };
+        // Scanned in storage order; the diverged satellite with the smallest id is named, whatever the
+        // storage order.
+        let order = &self.fleet.order;
+        let first = (0..self.truth.len())
+            .filter_map(|i| diverged(i).map(|reason| (order.id_at(i), reason)))
+            .min_by_key(|(id, _)| *id);
+        match first {
+            Some((satellite, reason)) => Err(SimError::Diverged {
+                satellite,
+                time_s: self.time_s,
+                reason,
+            }),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 

@@ -199,6 +199,9 @@ impl Simulation {
     /// The start of a tick at `t0`: the centralised step if due, this tick's noise draws, the law-state
     /// update on the navigation view, and in sampled mode the command held until the next tick.
     fn start_tick(&mut self, t0: f64) -> Result<(), SimError> {
+        let clock = Instant::now();
+        self.resort_if_due(self.tick);
+        self.timings.sensing_s += clock.elapsed().as_secs_f64();
         if self.law.centralised_due(t0) {
             let clock = Instant::now();
             self.with_truth_view(|law, view| law.centralised_update(view))?;
@@ -335,18 +338,20 @@ impl Simulation {
         }
     }
 
-    /// Draws the navigation and process noise held during tick `tick`, from each satellite's own streams.
+    /// Draws the navigation and process noise held during tick `tick`, from each satellite's own streams
+    /// (by id; stored by storage index).
     fn draw_noise(&mut self, tick: u64) {
         let sensing = self.config.sensing;
         let seed = self.config.seed;
+        let order = &self.fleet.order;
         if sensing.has_navigation_noise() {
             self.navigation_noise
                 .par_iter_mut()
                 .with_min_len(CHUNK)
                 .enumerate()
                 .for_each(|(i, e)| {
-                    let mut stream =
-                        RandomStream::new(seed, Purpose::NavigationNoise, i as u64, tick);
+                    let id = order.id_at(i) as u64;
+                    let mut stream = RandomStream::new(seed, Purpose::NavigationNoise, id, tick);
                     for (k, value) in e.iter_mut().enumerate() {
                         let sigma = if k < 3 {
                             sensing.position_noise_m
@@ -364,7 +369,8 @@ impl Simulation {
                 .with_min_len(CHUNK)
                 .enumerate()
                 .for_each(|(i, a)| {
-                    let mut stream = RandomStream::new(seed, Purpose::ProcessNoise, i as u64, tick);
+                    let id = order.id_at(i) as u64;
+                    let mut stream = RandomStream::new(seed, Purpose::ProcessNoise, id, tick);
                     *a = Vector3::from_fn(|_, _| sigma * stream.standard_normal());
                 });
         }

@@ -11,10 +11,11 @@ use crate::relative::SchweighartSedwick;
 use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::{
-    own_batch, EnvironmentView, Law, LawContext, OwnSample, SatelliteView, SharedInfo, SwarmView,
-    TickEvaluation, OWN_BATCH,
+    own_batch, EnvironmentView, Law, LawContext, OwnSample, Placement, SatelliteView, SharedInfo,
+    SwarmView, TickEvaluation, OWN_BATCH,
 };
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
+use crate::swarm::simulation::order::StorageOrder;
 use crate::swarm::state::{reference_of, satellite_of};
 
 pub(super) use crate::swarm::CHUNK;
@@ -28,6 +29,17 @@ pub(super) struct Fleet {
     pub active: Vec<bool>,
     /// `false` while a satellite's links are cut.
     pub links_up: Vec<bool>,
+    /// The storage order of these and of every per-satellite array of the simulation.
+    pub order: StorageOrder,
+}
+
+/// The fleet's flags and masses gathered into id order, for a whole-swarm view while the storage order
+/// is not the id order.
+#[derive(Default)]
+pub(super) struct FleetById {
+    masses_kg: Vec<f64>,
+    active: Vec<bool>,
+    links_up: Vec<bool>,
 }
 
 /// The navigation view of the swarm at one evaluation: navigation states (truth plus the noise held over
@@ -50,6 +62,43 @@ impl Sensed {
             grid: NeighbourGrid::new(),
         }
     }
+
+    /// Rebuilds the grid over the positions of `states` (one per storage index) with radius
+    /// `range_m`, each cell's satellites stored by `ranks` (their ids; `None`: by storage index), and
+    /// returns its cell order; `None`, with the grid empty, when a position is not finite.
+    pub fn grid_over(
+        &mut self,
+        states: &[RelativeStateHill],
+        range_m: f64,
+        ranks: Option<&[u32]>,
+    ) -> Option<&[u32]> {
+        let Self { x, y, z, grid, .. } = self;
+        rebuild_grid([x, y, z], grid, states, range_m, ranks).then(|| grid.cell_order())
+    }
+}
+
+/// Rebuilds `grid` over the positions of `states` (copied component-wise into `xyz`) with radius
+/// `range_m` and each cell's satellites by `ranks`; `false`, with the grid empty, when a position is not
+/// finite.
+fn rebuild_grid(
+    [x, y, z]: [&mut Vec<f64>; 3],
+    grid: &mut NeighbourGrid,
+    states: &[RelativeStateHill],
+    range_m: f64,
+    ranks: Option<&[u32]>,
+) -> bool {
+    for axis in [&mut *x, &mut *y, &mut *z] {
+        axis.resize(states.len(), 0.0);
+    }
+    x.par_iter_mut()
+        .zip(y.par_iter_mut())
+        .zip(z.par_iter_mut())
+        .zip(states.par_iter())
+        .with_min_len(CHUNK)
+        .for_each(|(((x, y), z), rel)| {
+            (*x, *y, *z) = (rel.position_m.x, rel.position_m.y, rel.position_m.z);
+        });
+    grid.build_ranked(x, y, z, range_m, ranks).is_ok()
 }
 
 /// What the views and the right-hand side read besides the state and the law.
@@ -84,7 +133,7 @@ impl<'a> Plant<'a> {
         let n = self.n();
         let (position_m, velocity_mps) = match self.config.origin {
             Origin::VirtualReference => reference_of(data),
-            Origin::Member(k) => satellite_of(data, n, k),
+            Origin::Member(k) => satellite_of(data, n, self.fleet.order.index_of(k)),
         };
         let origin = CartesianState::new(position_m, velocity_mps);
         let gravity = self.config.dynamics.reference_gravity();
@@ -114,7 +163,7 @@ impl<'a> Plant<'a> {
         } else {
             let (op, ov) = match self.config.origin {
                 Origin::VirtualReference => (Vector3::zeros(), Vector3::zeros()),
-                Origin::Member(k) => satellite_of(data, n, k),
+                Origin::Member(k) => satellite_of(data, n, self.fleet.order.index_of(k)),
             };
             relative
                 .par_iter_mut()
@@ -141,8 +190,8 @@ impl<'a> Plant<'a> {
         }
     }
 
-    /// A whole-swarm view over `sensed.navigation` as it stands (truth plus `noise` when given), with the
-    /// sensing grid rebuilt over those positions.
+    /// A whole-swarm view over the navigation states, in storage order (truth plus `noise` when given,
+    /// both by storage index), with the sensing grid rebuilt over those positions.
     pub fn view<'s>(
         &'s self,
         time_s: f64,
@@ -150,13 +199,7 @@ impl<'a> Plant<'a> {
         noise: Option<&[[f64; 6]]>,
         sensed: &'s mut Sensed,
     ) -> SwarmView<'s> {
-        let Sensed {
-            navigation,
-            x,
-            y,
-            z,
-            grid,
-        } = sensed;
+        let navigation = &mut sensed.navigation;
         match noise {
             Some(noise) => navigation
                 .par_iter_mut()
@@ -168,45 +211,103 @@ impl<'a> Plant<'a> {
                 }),
             None => navigation.copy_from_slice(truth),
         }
-        x.par_iter_mut()
-            .zip(y.par_iter_mut())
-            .zip(z.par_iter_mut())
-            .zip(navigation.par_iter())
+        let fleet = self.fleet;
+        self.view_of_navigation(
+            time_s,
+            sensed,
+            (&fleet.masses_kg, &fleet.active, &fleet.links_up),
+            fleet.order.placement(),
+        )
+    }
+
+    /// A whole-swarm view of the truth states (`truth` by storage index) with every slice by id, as a
+    /// law's whole-swarm hooks get it: gathered into `sensed` and `by_id` unless the storage order is
+    /// the id order.
+    pub fn view_by_id<'s>(
+        &'s self,
+        time_s: f64,
+        truth: &[RelativeStateHill],
+        sensed: &'s mut Sensed,
+        by_id: &'s mut FleetById,
+    ) -> SwarmView<'s> {
+        let order = &self.fleet.order;
+        if order.placement().is_none() {
+            return self.view(time_s, truth, None, sensed);
+        }
+        let n = truth.len();
+        sensed
+            .navigation
+            .par_iter_mut()
             .with_min_len(CHUNK)
-            .for_each(|(((x, y), z), rel)| {
-                (*x, *y, *z) = (rel.position_m.x, rel.position_m.y, rel.position_m.z);
-            });
+            .enumerate()
+            .for_each(|(id, nav)| *nav = truth[order.index_of(id)]);
+        let fleet = self.fleet;
+        by_id.masses_kg = (0..n)
+            .map(|id| fleet.masses_kg[order.index_of(id)])
+            .collect();
+        by_id.active = (0..n).map(|id| fleet.active[order.index_of(id)]).collect();
+        by_id.links_up = (0..n)
+            .map(|id| fleet.links_up[order.index_of(id)])
+            .collect();
+        self.view_of_navigation(
+            time_s,
+            sensed,
+            (&by_id.masses_kg, &by_id.active, &by_id.links_up),
+            None,
+        )
+    }
+
+    /// The view over `sensed.navigation` as it stands, with `fleet` (masses, active and link flags) in
+    /// the same order, `placement` saying which satellite each entry is: the grid is rebuilt over the
+    /// navigation positions (ranked by id) and masked with `active && links_up`.
+    fn view_of_navigation<'s>(
+        &'s self,
+        time_s: f64,
+        sensed: &'s mut Sensed,
+        (masses_kg, active, links_up): (&'s [f64], &'s [bool], &'s [bool]),
+        placement: Option<Placement<'s>>,
+    ) -> SwarmView<'s> {
+        let ranks = placement.map(|p| p.id_of);
+        let range_m = self.config.sensing.range_m;
+        let Sensed {
+            navigation,
+            x,
+            y,
+            z,
+            grid,
+        } = sensed;
         // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
         // the divergence check after the segment then stops the run and names the satellite.
-        if grid.build(x, y, z, self.config.sensing.range_m).is_ok() {
-            let (active, links_up) = (&self.fleet.active, &self.fleet.links_up);
+        if rebuild_grid([x, y, z], grid, navigation, range_m, ranks) {
             grid.mask(|i| active[i] && links_up[i]);
         }
-        SwarmView {
-            relative_states: navigation,
-            masses_kg: &self.fleet.masses_kg,
-            active: &self.fleet.active,
-            links_up: &self.fleet.links_up,
+        SwarmView::new(
+            navigation,
+            masses_kg,
+            active,
+            links_up,
             grid,
-            shared: self.shared(time_s),
-            environment: EnvironmentView {
+            self.shared(time_s),
+            EnvironmentView {
                 threats: &self.config.threats,
                 obstacles: &self.config.obstacles,
                 threat_warnings: self.threat_warnings,
             },
-        }
+        )
+        .in_storage_order(placement)
     }
 
-    /// The law context of satellite `i` at tick `tick` (time `time_s`), for the state update or (with
-    /// `for_command`) the command: the two draw from independent streams.
-    pub fn context(&self, i: usize, time_s: f64, tick: u64, for_command: bool) -> LawContext {
-        self.context_with(i, self.fleet.actuators[i], time_s, tick, for_command)
+    /// The law context of the satellite at storage index `index` at tick `tick` (time `time_s`), for
+    /// the state update or (with `for_command`) the command: the two draw from independent streams.
+    pub fn context(&self, index: usize, time_s: f64, tick: u64, for_command: bool) -> LawContext {
+        let id = self.fleet.order.id_at(index);
+        self.context_with(id, self.fleet.actuators[index], time_s, tick, for_command)
     }
 
-    /// [`Self::context`] with satellite `i`'s actuator already at hand.
+    /// The law context of satellite `id` with its actuator already at hand.
     fn context_with(
         &self,
-        i: usize,
+        id: usize,
         actuator: Actuator,
         time_s: f64,
         tick: u64,
@@ -217,7 +318,7 @@ impl<'a> Plant<'a> {
             tick,
             self.config.base_step_s(),
             actuator,
-            i,
+            id,
             self.config.seed,
         );
         if for_command {
@@ -227,10 +328,11 @@ impl<'a> Plant<'a> {
         }
     }
 
-    /// Evaluates the law for every live satellite of `view` and writes the applied command (Hill frame)
-    /// into `applied_hill`: an acceleration through the satellite's actuator, or a velocity as commanded
-    /// (kinematic model). Removed satellites get zero. Satellites are evaluated in id order (the plain
-    /// path; [`Self::commands_in_cell_order`] gives the same bits faster on large swarms).
+    /// Evaluates the law for every live satellite of `view` (in storage order) and writes the applied
+    /// command (Hill frame) into `applied_hill` by storage index: an acceleration through the
+    /// satellite's actuator, or a velocity as commanded (kinematic model). Removed satellites get zero.
+    /// Satellites are evaluated in storage order (the plain path; [`Self::commands_in_cell_order`]
+    /// gives the same bits faster on large swarms).
     pub fn commands(
         &self,
         law: &Law,
@@ -291,7 +393,7 @@ impl<'a> Plant<'a> {
                     }
                 }
             });
-        Self::gather_by_id(view, scratch, applied_hill);
+        Self::gather_by_index(view, scratch, applied_hill);
     }
 
     /// The state update of a stateful law and the commands of one tick in one pass
@@ -317,25 +419,35 @@ impl<'a> Plant<'a> {
         {
             return false;
         }
-        Self::gather_by_id(view, scratch, applied_hill);
+        Self::gather_by_index(view, scratch, applied_hill);
         true
     }
 
-    /// Writes into `by_id[i]` the value of satellite `i`'s grid slot in `by_slot`.
-    fn gather_by_id(view: &SwarmView<'_>, by_slot: &[Vector3<f64>], by_id: &mut [Vector3<f64>]) {
-        by_id
+    /// Writes into `by_index[i]` the value in `by_slot` of the grid slot of the satellite at storage
+    /// index `i`.
+    fn gather_by_index(
+        view: &SwarmView<'_>,
+        by_slot: &[Vector3<f64>],
+        by_index: &mut [Vector3<f64>],
+    ) {
+        by_index
             .par_iter_mut()
             .with_min_len(CHUNK)
             .enumerate()
             .for_each(|(i, value)| *value = by_slot[view.grid.slot(i)]);
     }
 
-    /// The applied command of satellite `i` (zero for a removed satellite).
-    fn command_of(&self, law: &Law, view: &SwarmView<'_>, i: usize, tick: u64) -> Vector3<f64> {
-        if !self.fleet.active[i] {
+    /// The applied command of the satellite at storage index `index` (zero for a removed satellite).
+    fn command_of(&self, law: &Law, view: &SwarmView<'_>, index: usize, tick: u64) -> Vector3<f64> {
+        if !self.fleet.active[index] {
             return Vector3::zeros();
         }
-        self.applied(law, &view.satellite(i), self.fleet.actuators[i], tick)
+        self.applied(
+            law,
+            &view.satellite_at(index),
+            self.fleet.actuators[index],
+            tick,
+        )
     }
 
     /// The applied command of the live satellite `satellite` with actuator `actuator`: the law's command
@@ -381,9 +493,14 @@ struct PlantTick<'p> {
 }
 
 impl TickEvaluation for PlantTick<'_> {
-    fn own(&self, swarm: &SwarmView<'_>, id: usize, slot: usize) -> Option<(OwnSample, Actuator)> {
+    fn own(
+        &self,
+        swarm: &SwarmView<'_>,
+        index: usize,
+        slot: usize,
+    ) -> Option<(OwnSample, Actuator)> {
         let fleet = self.plant.fleet;
-        fleet.active[id].then(|| (OwnSample::of(swarm, id, slot), fleet.actuators[id]))
+        fleet.active[index].then(|| (OwnSample::of(swarm, index, slot), fleet.actuators[index]))
     }
 
     fn update_context(&self, id: usize, actuator: Actuator) -> LawContext {
@@ -588,12 +705,15 @@ mod tests {
             };
             let mut unmasked_grid = NeighbourGrid::new();
             unmasked_grid
-                .build(&axis(0), &axis(1), &axis(2), sim.config.sensing.range_m)
+                .build_ranked(
+                    &axis(0),
+                    &axis(1),
+                    &axis(2),
+                    sim.config.sensing.range_m,
+                    sim.fleet.order.ranks(),
+                )
                 .unwrap();
-            let unmasked = SwarmView {
-                grid: &unmasked_grid,
-                ..view
-            };
+            let unmasked = view.with_grid(&unmasked_grid);
             let mut checked = vec![Vector3::zeros(); n];
             plant.commands(&sim.law, &unmasked, 5, &mut checked);
             for (a, b) in plain.iter().zip(&checked) {

@@ -6,7 +6,7 @@ use crate::metrics::five_elements;
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::swarm::recorder::{EnvironmentSnapshot, Recorder, Snapshot};
 use crate::swarm::simulation::monitors::live_separation;
-use crate::swarm::simulation::sensing::Plant;
+use crate::swarm::simulation::sensing::{FleetById, Plant};
 use crate::swarm::simulation::{SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of, SwarmState};
 
@@ -39,12 +39,19 @@ pub(super) fn inertial_states(
 impl Simulation {
     /// Builds the snapshot of now and hands it to the recorder.
     pub(super) fn record(&mut self, recorder: &mut dyn Recorder) -> Result<(), SimError> {
+        // Everything the recorder gets is by id (the engine's arrays are in storage order).
         let n = self.state.n();
-        let inertial = inertial_states(&self.config, &self.state);
-        let ledgers: Vec<([f64; 3], f64)> = (0..n).map(|i| self.state.ledger(i)).collect();
+        let order = &self.fleet.order;
+        let inertial = order.by_id(&inertial_states(&self.config, &self.state));
+        let ledgers: Vec<([f64; 3], f64)> = (0..n)
+            .map(|id| self.state.ledger(order.index_of(id)))
+            .collect();
         let axes: Vec<[f64; 3]> = ledgers.iter().map(|l| l.0).collect();
         let norms: Vec<f64> = ledgers.iter().map(|l| l.1).collect();
-        let live: Vec<usize> = (0..n).filter(|&i| self.fleet.active[i]).collect();
+        let active = order.by_id(&self.fleet.active);
+        let radii_m = order.by_id(&self.fleet.radii_m);
+        let relative_states = order.by_id(&self.truth);
+        let live: Vec<usize> = (0..n).filter(|&id| active[id]).collect();
         let elements = if live.len() >= 2 {
             let positions: Vec<[f64; 3]> = live
                 .iter()
@@ -54,7 +61,7 @@ impl Simulation {
                 .iter()
                 .map(|&i| inertial[i].velocity_mps.into())
                 .collect();
-            let radii: Vec<f64> = live.iter().map(|&i| self.fleet.radii_m[i]).collect();
+            let radii: Vec<f64> = live.iter().map(|&i| radii_m[i]).collect();
             five_elements(
                 &positions,
                 &velocities,
@@ -81,7 +88,8 @@ impl Simulation {
                 &self.threat_warnings,
                 self.reference_model,
             );
-            let view = plant.view(self.time_s, &self.truth, None, &mut self.sensed);
+            let mut by_id = FleetById::default();
+            let view = plant.view_by_id(self.time_s, &self.truth, &mut self.sensed, &mut by_id);
             self.law.record_metrics(&view, &mut law_metrics);
         }
         let law_output_names = self.law.output_names();
@@ -102,9 +110,9 @@ impl Simulation {
         };
         let snapshot = Snapshot {
             time_s: self.time_s,
-            relative_states: &self.truth,
+            relative_states: &relative_states,
             inertial_states: &inertial,
-            active: &self.fleet.active,
+            active: &active,
             delta_v_axes_mps: &axes,
             delta_v_mps: &norms,
             five_elements: elements,

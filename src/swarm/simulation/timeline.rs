@@ -1,7 +1,7 @@
 //! Applying the events of the timeline that fall due: law parameters and switches, ground messages,
 //! link outages, satellite losses and thruster failures.
 
-use crate::swarm::events::{EventAction, ThrustAxis};
+use crate::swarm::events::{EventAction, Selection, ThrustAxis};
 use crate::swarm::simulation::{check_law_fits, SimError, Simulation};
 
 impl Simulation {
@@ -27,23 +27,15 @@ impl Simulation {
                 EventAction::ThreatWarning { threat, active } => {
                     self.threat_warnings[threat] = active;
                 }
-                EventAction::CutLinks(selection) => {
-                    for (i, up) in self.fleet.links_up.iter_mut().enumerate() {
-                        if selection.contains(i) {
-                            *up = false;
-                        }
-                    }
+                EventAction::CutLinks(selection) => self.set_links(&selection, false),
+                EventAction::RestoreLinks(selection) => self.set_links(&selection, true),
+                EventAction::RemoveSatellite(id) => {
+                    let index = self.fleet.order.index_of(id);
+                    self.fleet.active[index] = false;
                 }
-                EventAction::RestoreLinks(selection) => {
-                    for (i, up) in self.fleet.links_up.iter_mut().enumerate() {
-                        if selection.contains(i) {
-                            *up = true;
-                        }
-                    }
-                }
-                EventAction::RemoveSatellite(i) => self.fleet.active[i] = false,
                 EventAction::FailThruster { satellite, axis } => {
-                    let axes = &mut self.fleet.actuators[satellite].working_axes;
+                    let index = self.fleet.order.index_of(satellite);
+                    let axes = &mut self.fleet.actuators[index].working_axes;
                     match axis {
                         ThrustAxis::X => axes[0] = false,
                         ThrustAxis::Y => axes[1] = false,
@@ -57,6 +49,16 @@ impl Simulation {
     }
 
     /// Mass of the lightest satellite \[kg\] (the one with the fastest closed-loop rate).
+    /// Sets the link flag of every satellite `selection` names to `up`.
+    fn set_links(&mut self, selection: &Selection, up: bool) {
+        let order = &self.fleet.order;
+        for (index, links_up) in self.fleet.links_up.iter_mut().enumerate() {
+            if selection.contains(order.id_at(index)) {
+                *links_up = up;
+            }
+        }
+    }
+
     fn min_mass_kg(&self) -> f64 {
         self.fleet
             .masses_kg

@@ -1,0 +1,316 @@
+//! The satellites' storage order. The engine keeps every per-satellite array (state, fleet, truth,
+//! commands, buffers) in one order of its own, the **storage order**, and in sampled control re-sorts it
+//! every [`RESORT_PERIOD_TICKS`] ticks by sensing-grid cell (a stable key: cell, then id), so satellites
+//! near in space are near in memory and the per-tick passes (grid build, each satellite's own data, its
+//! neighbours' states, its command) read memory nearly in sequence instead of at random on a large
+//! swarm. Ids never change: a satellite's id is its index in the scenario, and everything a law, a
+//! random stream, an event or an output names is by id; [`StorageOrder`] translates.
+//!
+//! Nothing a run computes depends on the storage order: each satellite's computations read the same
+//! inputs wherever it is stored, neighbours are visited in (cell, id) order whatever the storage order
+//! ([`crate::grid::NeighbourGrid::build_ranked`]), and what is summed over satellites is summed by id.
+//! So a run gives the same bits re-sorted at every tick or never (tested below, on every law).
+
+use crate::swarm::law::Placement;
+use crate::swarm::simulation::{ControlTiming, Simulation};
+
+/// Control ticks between two re-sorts of the storage order (sampled control only). Satellites drift
+/// across cells slowly compared with a tick, and a re-sort costs a few passes over the swarm.
+pub(super) const RESORT_PERIOD_TICKS: u64 = 32;
+
+/// Which satellite id each storage index holds, and back.
+#[derive(Clone, Debug)]
+pub(super) struct StorageOrder {
+    /// Satellite id at each storage index.
+    id_of: Vec<u32>,
+    /// Storage index of each satellite id.
+    index_of: Vec<u32>,
+    /// Whether storage index == id for every satellite.
+    identity: bool,
+}
+
+impl StorageOrder {
+    /// The identity order of `n` satellites (storage index = id).
+    pub fn identity(n: usize) -> Self {
+        let id_of: Vec<u32> = (0..n as u32).collect();
+        Self {
+            index_of: id_of.clone(),
+            id_of,
+            identity: true,
+        }
+    }
+
+    /// The satellite id stored at `index`.
+    #[inline]
+    pub fn id_at(&self, index: usize) -> usize {
+        self.id_of[index] as usize
+    }
+
+    /// The storage index of satellite `id`.
+    #[inline]
+    pub fn index_of(&self, id: usize) -> usize {
+        self.index_of[id] as usize
+    }
+
+    /// The ids by storage index, for a ranked grid build; `None` for the identity order.
+    pub fn ranks(&self) -> Option<&[u32]> {
+        (!self.identity).then_some(self.id_of.as_slice())
+    }
+
+    /// The translation a view needs; `None` for the identity order.
+    pub fn placement(&self) -> Option<Placement<'_>> {
+        (!self.identity).then(|| Placement {
+            id_of: &self.id_of,
+            index_of: &self.index_of,
+        })
+    }
+
+    /// Gathers `by_index` (one value per storage index) into id order.
+    pub fn by_id<T: Copy>(&self, by_index: &[T]) -> Vec<T> {
+        self.index_of
+            .iter()
+            .map(|&k| by_index[k as usize])
+            .collect()
+    }
+
+    /// Moves to the storage order in which new index `k` holds what old index `moves[k]` held.
+    fn apply(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+        permute(&mut self.id_of, moves, visited);
+        for (k, &id) in self.id_of.iter().enumerate() {
+            self.index_of[id as usize] = k as u32;
+        }
+        self.identity = self
+            .id_of
+            .iter()
+            .enumerate()
+            .all(|(k, &id)| k == id as usize);
+    }
+}
+
+/// Rearranges `data` in place so that `data[k]` afterwards holds what `data[moves[k]]` held (`moves` a
+/// permutation of `0..data.len()`), following each cycle of the permutation with swaps; `visited` is
+/// scratch.
+fn permute<T>(data: &mut [T], moves: &[u32], visited: &mut Vec<bool>) {
+    debug_assert_eq!(data.len(), moves.len());
+    visited.clear();
+    visited.resize(data.len(), false);
+    for start in 0..data.len() {
+        if visited[start] {
+            continue;
+        }
+        let mut k = start;
+        visited[k] = true;
+        while moves[k] as usize != start {
+            let next = moves[k] as usize;
+            data.swap(k, next);
+            visited[next] = true;
+            k = next;
+        }
+    }
+}
+
+impl Simulation {
+    /// Re-sorts the storage order by sensing-grid cell of the truth positions now (cell, then id) if
+    /// this tick is due (sampled control only; continuous control keeps the id order), moving every
+    /// per-satellite array with it.
+    pub(super) fn resort_if_due(&mut self, tick: u64) {
+        if !matches!(self.config.control, ControlTiming::Sampled { .. })
+            || self.resort_period_ticks == 0
+            || !tick.is_multiple_of(self.resort_period_ticks)
+        {
+            return;
+        }
+        let ranks = self.fleet.order.ranks();
+        let range_m = self.config.sensing.range_m;
+        let Some(cells) = self.sensed.grid_over(&self.truth, range_m, ranks) else {
+            return; // a non-finite position: the divergence check stops the run
+        };
+        let moves = cells.to_vec();
+        if moves.iter().enumerate().all(|(k, &i)| k == i as usize) {
+            return;
+        }
+        let mut visited = Vec::new();
+        for component in self.state.satellite_components_mut() {
+            permute(component, &moves, &mut visited);
+        }
+        let fleet = &mut self.fleet;
+        permute(&mut fleet.masses_kg, &moves, &mut visited);
+        permute(&mut fleet.radii_m, &moves, &mut visited);
+        permute(&mut fleet.actuators, &moves, &mut visited);
+        permute(&mut fleet.active, &moves, &mut visited);
+        permute(&mut fleet.links_up, &moves, &mut visited);
+        fleet.order.apply(&moves, &mut visited);
+        permute(&mut self.truth, &moves, &mut visited);
+        permute(&mut self.applied_hill, &moves, &mut visited);
+        permute(&mut self.held_control, &moves, &mut visited);
+        if let Some(guesses) = self.integration.step_guesses_s() {
+            permute(guesses, &moves, &mut visited);
+        }
+        // The separation tracker's anchors are by storage index: its next update searches afresh.
+        self.live.forget_anchors();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::run::build_simulation;
+    use crate::scenario::Scenario;
+    use crate::swarm::recorder::{Recorder, Snapshot};
+
+    /// Every number a recorder receives, as bits, snapshot after snapshot.
+    #[derive(Default, PartialEq, Debug)]
+    struct Capture(Vec<u64>);
+
+    impl Recorder for Capture {
+        fn record(&mut self, s: &Snapshot<'_>) -> std::io::Result<()> {
+            let mut put = |v: f64| self.0.push(v.to_bits());
+            put(s.time_s);
+            for (r, e) in s.relative_states.iter().zip(s.inertial_states) {
+                r.position_m
+                    .iter()
+                    .chain(&r.velocity_mps)
+                    .for_each(|v| put(*v));
+                e.position_m
+                    .iter()
+                    .chain(&e.velocity_mps)
+                    .for_each(|v| put(*v));
+            }
+            s.delta_v_axes_mps.iter().flatten().for_each(|v| put(*v));
+            s.delta_v_mps.iter().for_each(|v| put(*v));
+            s.law_metrics.iter().for_each(|v| put(*v));
+            s.law_outputs.iter().for_each(|v| put(*v));
+            put(s.min_separation_m);
+            if let Some(f) = s.five_elements {
+                f.r_o_m.iter().chain(&f.v_o_mps).for_each(|v| put(*v));
+                [f.d_max_m, f.diameter_m, f.d_min_m, f.uniformity_l]
+                    .into_iter()
+                    .for_each(&mut put);
+            }
+            let env = s.environment;
+            put(env.min_threat_distance_m.unwrap_or(-1.0));
+            put(env.min_obstacle_clearance_m.unwrap_or(-1.0));
+            self.0.extend(s.active.iter().map(|a| u64::from(*a)));
+            self.0.extend([
+                s.collisions as u64,
+                env.threat_incursions,
+                env.obstacle_incursions,
+            ]);
+            Ok(())
+        }
+    }
+
+    /// Runs `text` to `until_s` re-sorting every `period` ticks (0: never): what the recorder got, the
+    /// final state, law outputs, results and totals, and whether the storage order ended up shuffled.
+    fn run(text: &str, until_s: f64, period: u64) -> (Capture, String, bool) {
+        let scenario = Scenario::from_toml(text, "t", Path::new(".")).unwrap();
+        let mut sim = build_simulation(&scenario).unwrap();
+        sim.resort_period_ticks = period;
+        let mut capture = Capture::default();
+        sim.advance_to(until_s, &mut capture).unwrap();
+        let shuffled = sim.fleet.order.ranks().is_some();
+        let state: Vec<u64> = sim.state().as_slice().iter().map(|v| v.to_bits()).collect();
+        let outputs: Vec<u64> = sim.law_outputs().iter().map(|v| v.to_bits()).collect();
+        let results = sim.law_results();
+        let summary = format!(
+            "{state:?} {outputs:?} {results:?} {:?} {:?}",
+            sim.totals(),
+            (0..sim.satellite_count())
+                .map(|i| sim.approach_monitor().satellite_threat_minimum(i))
+                .collect::<Vec<_>>()
+        );
+        (capture, summary, shuffled)
+    }
+
+    /// The storage order changes no bit of a run: re-sorted at every tick or never, every law gives the
+    /// same records, final states, law outputs and results, totals and per-satellite threat minima, with
+    /// navigation and process noise, events naming satellites (removal, link cuts and restores, a
+    /// thruster failure), threats and obstacles, a member origin, an adaptive integrator, a
+    /// centralised step and a law switch; and the re-sorted runs really are stored out of id order.
+    #[test]
+    fn runs_are_bitwise_the_same_whatever_the_storage_order() {
+        let sphere = |law: &str, extra: &str, integrator: &str, dynamics: &str| {
+            format!(
+                "name = \"t\"\nseed = 5\nduration_s = 6.0\nrecord_interval_s = 0.5\n\
+                 [dynamics]\nmodel = \"{dynamics}\"\nintegrator = \"{integrator}\"\nstep_s = 0.05\n\
+                 process_noise_mps2 = 1e-5\n\
+                 [reference]\naltitude_m = 600e3\ninclination_deg = 98.0\n{extra}\n\
+                 [control]\nmode = \"sampled\"\nperiod_s = 0.05\n\
+                 [satellites]\ncount = 400\nmass_kg = 100.0\nradius_m = 0.5\n\
+                 max_accel_mps2 = 0.05\n\
+                 initial = {{ distribution = \"sphere\", radius_m = 300.0 }}\n\
+                 [sensing]\nrange_m = 60.0\nposition_noise_m = 0.01\nvelocity_noise_mps = 1e-4\n\
+                 [law]\n{law}\n\
+                 [[obstacles]]\nname = \"o\"\ncenter_hill_m = [0.0, 0.0, 0.0]\nradius_m = 20.0\n\
+                 [[threats]]\nname = \"k\"\ndanger_radius_m = 5.0\n\
+                 aim_point_hill_m = [0.0, 100.0, 0.0]\ndirection_hill = [0.0, 0.0, -1.0]\n\
+                 speed_mps = 200.0\narrival_time_s = 2.0\n\
+                 [[events]]\ntime_s = 0.5\naction = \"remove-satellite\"\nsatellite = 17\n\
+                 [[events]]\ntime_s = 0.6\naction = \"cut-links\"\nsatellites = [3, 250, 399]\n\
+                 [[events]]\ntime_s = 0.9\naction = \"fail-thruster\"\nsatellite = 123\naxis = \"y\"\n\
+                 [[events]]\ntime_s = 1.2\naction = \"restore-links\"\nsatellites = [250]\n\
+                 [[events]]\ntime_s = 1.0\naction = \"threat-warning\"\nthreat = 0\nactive = true\n\
+                 [output]\ntrajectory = false\n"
+            )
+        };
+        let pigeon = "name = \"pigeon\"\nswitching = true\negalitarian_range_m = 50.0\n\
+                      hierarchical_range_m = 60.0";
+        let bifurcating = "name = \"bifurcating\"\nk_f_kg_per_m_s2 = 0.003\nk_c_kg_per_s2 = 0.25\n\
+                           k_v_kg_per_s = 2000.0\navoidance_radius_m = 60.0\na = 1.0\nb = 1.0\n\
+                           radius_m = 300.0\nmu_m = -5000.0";
+        let cases = [
+            sphere(pigeon, "", "rk4", "j2")
+                + &format!("[[events]]\ntime_s = 3.0\naction = \"switch-law\"\n[events.law]\n{bifurcating}\n"),
+            sphere(
+                bifurcating,
+                "origin = \"member\"\norigin_member = 7",
+                "rk4",
+                "j2",
+            ),
+            sphere(bifurcating, "", "dop853", "hcw"),
+            // (Sensing ranges below the swarms' sizes, so that they span several cells.)
+            include_str!("../../../scenarios/hold.toml").to_string()
+                + "[sensing]\nrange_m = 30.0\n",
+            include_str!("../../../scenarios/ts-outage.toml")
+                .replace("range_m = 20.0", "range_m = 1.0"),
+            include_str!("../../../scenarios/es-e1.toml")
+                .replace(
+                    "mode = \"continuous\"",
+                    "mode = \"sampled\"\nperiod_s = 0.02",
+                )
+                .replace("range_m = 1000.0", "range_m = 10.5"),
+        ];
+        for (k, text) in cases.iter().enumerate() {
+            let until_s = [6.0, 6.0, 6.0, 3700.0, 3700.0, 1600.0][k];
+            let (never, never_summary, never_shuffled) = run(text, until_s, 0);
+            let (every, every_summary, every_shuffled) = run(text, until_s, 1);
+            assert!(!never_shuffled);
+            assert!(
+                every_shuffled,
+                "case {k}: the re-sorted run stayed in id order"
+            );
+            assert!(never.0.len() > 100, "case {k}: too little recorded");
+            assert!(never == every, "case {k}: records differ");
+            assert_eq!(never_summary, every_summary, "case {k}");
+        }
+    }
+
+    #[test]
+    fn permute_moves_each_entry_from_its_old_index() {
+        let moves = [3u32, 0, 4, 1, 2, 5];
+        let mut data = ['a', 'b', 'c', 'd', 'e', 'f'];
+        let mut visited = Vec::new();
+        permute(&mut data, &moves, &mut visited);
+        assert_eq!(data, ['d', 'a', 'e', 'b', 'c', 'f']);
+        let mut order = StorageOrder::identity(6);
+        order.apply(&moves, &mut visited);
+        assert!(order.ranks().is_some());
+        for (k, &id) in moves.iter().enumerate() {
+            assert_eq!(order.id_at(k), id as usize);
+            assert_eq!(order.index_of(order.id_at(k)), k);
+        }
+        assert_eq!(order.by_id(&data), ['a', 'b', 'c', 'd', 'e', 'f']);
+    }
+}
