@@ -17,6 +17,7 @@ mod law;
 mod recorder;
 mod simulation;
 mod state;
+mod storage_order;
 
 pub use actuator::{Actuator, LimitKind};
 pub use dynamics::DynamicsModel;

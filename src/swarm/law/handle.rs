@@ -14,6 +14,7 @@
 //! passes.
 
 use std::any::Any;
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
@@ -23,6 +24,7 @@ use super::{
     Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, Neighbour, OwnSample, SatelliteView,
     SwarmFacts, SwarmView,
 };
+use crate::swarm::storage_order::{permute, Placement};
 use crate::swarm::{Actuator, CHUNK};
 
 /// Satellites whose own data a pass copies out together before evaluating them (loads by id, scattered
@@ -97,7 +99,11 @@ trait ErasedLaw: Send + Sync {
     fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError>;
     fn output_names(&self) -> &'static [&'static str];
     fn metric_names(&self) -> &'static [&'static str];
-    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError>;
+    fn initialise(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        placement: Option<Placement<'_>>,
+    ) -> Result<(), LawError>;
     fn update_states(
         &mut self,
         swarm: &SwarmView<'_>,
@@ -113,11 +119,21 @@ trait ErasedLaw: Send + Sync {
     ) -> bool;
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError>;
-    fn write_outputs(&self, values: &mut [f64]);
-    fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]);
+    fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>);
+    fn record_metrics(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        values: &mut [f64],
+        placement: Option<Placement<'_>>,
+    );
     fn centralised_due(&self, time_s: f64) -> bool;
     fn centralised_update(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError>;
-    fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value>;
+    fn results(
+        &self,
+        swarm: &SwarmView<'_>,
+        placement: Option<Placement<'_>>,
+    ) -> BTreeMap<String, serde_json::Value>;
+    fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>);
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>>;
     fn as_any(&self) -> &dyn Any;
     fn states_as_any(&self) -> &dyn Any;
@@ -126,11 +142,26 @@ trait ErasedLaw: Send + Sync {
 /// A law and its per-satellite states.
 struct Stateful<L: GuidanceLaw> {
     law: L,
-    /// States after the last update, by satellite id (read by commands, outputs and the next update).
+    /// States after the last update, by storage index (read by commands, outputs and the next update).
     current: Vec<L::State>,
-    /// Buffer the next update writes into (by id, or by grid slot in cell order); it holds outdated
-    /// states whose allocations the law may reuse ([`GuidanceLaw::update_state_into`]).
+    /// Buffer the next update writes into (by storage index, or by grid slot in cell order); it holds
+    /// outdated states whose allocations the law may reuse ([`GuidanceLaw::update_state_into`]).
     next: Vec<L::State>,
+}
+
+impl<L: GuidanceLaw> Stateful<L> {
+    /// The current states by id: borrowed in the identity order, gathered otherwise.
+    fn states_by_id(&self, placement: Option<Placement<'_>>) -> Cow<'_, [L::State]> {
+        match placement {
+            None => Cow::Borrowed(&self.current),
+            Some(p) => Cow::Owned(
+                p.index_of
+                    .iter()
+                    .map(|&k| self.current[k as usize].clone())
+                    .collect(),
+            ),
+        }
+    }
 }
 
 impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
@@ -162,10 +193,24 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         self.law.metric_names()
     }
 
-    fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
-        self.current = vec![L::State::default(); swarm.len()];
+    fn initialise(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        placement: Option<Placement<'_>>,
+    ) -> Result<(), LawError> {
+        // The law sets the states by id; they are then stored in the storage order.
+        let mut by_id = vec![L::State::default(); swarm.len()];
+        let result = self.law.initialise(swarm, &mut by_id);
+        self.current = match placement {
+            None => by_id,
+            Some(p) => p
+                .id_of
+                .iter()
+                .map(|&id| by_id[id as usize].clone())
+                .collect(),
+        };
         self.next = self.current.clone();
-        self.law.initialise(swarm, &mut self.current)
+        result
     }
 
     fn update_states(
@@ -180,18 +225,17 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         }
         let Self { law, current, next } = self;
         let previous = &*current;
-        // The satellite at entry `index` of the view's slices (states are by id).
+        // The satellite at entry `index` of the view's slices (the states' storage order too).
         let update = |index: usize, out: &mut L::State| {
-            let id = swarm.id_at(index);
             if active[index] {
                 law.update_state_into(
                     &swarm.satellite_at(index),
-                    &Broadcast::new(id, previous),
+                    &Broadcast::new(index, previous),
                     &context(index),
                     out,
                 );
             } else {
-                out.clone_from(&previous[id]);
+                out.clone_from(&previous[index]);
             }
         };
         let grid = swarm.grid;
@@ -202,15 +246,15 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                 .zip(cells.par_iter())
                 .with_min_len(CHUNK)
                 .for_each(|(out, &index)| update(index as usize, out));
-            // ...and each goes to its id, leaving the outdated one in the slot for reuse.
-            for (id, state) in current.iter_mut().enumerate() {
-                std::mem::swap(state, &mut next[grid.slot(swarm.index_of(id))]);
+            // ...and each goes to its storage index, leaving the outdated one in the slot for reuse.
+            for (index, state) in current.iter_mut().enumerate() {
+                std::mem::swap(state, &mut next[grid.slot(index)]);
             }
         } else {
             next.par_iter_mut()
                 .with_min_len(CHUNK)
                 .enumerate()
-                .for_each(|(id, out)| update(swarm.index_of(id), out));
+                .for_each(|(index, out)| update(index, out));
             std::mem::swap(current, next);
         }
     }
@@ -249,7 +293,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                         states.iter_mut().zip(applied).zip(own.iter().zip(indices))
                     {
                         let Some((own, actuator)) = *own else {
-                            state.clone_from(&previous[swarm.id_at(index as usize)]);
+                            state.clone_from(&previous[index as usize]);
                             *applied = Vector3::zeros();
                             continue;
                         };
@@ -258,7 +302,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                         let id = own.id;
                         law.update_state_into(
                             &satellite,
-                            &Broadcast::new(id, previous),
+                            &Broadcast::new(own.index, previous),
                             &tick.update_context(id, actuator),
                             state,
                         );
@@ -269,16 +313,16 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                 }
                 SENSED.set(sensed);
             });
-        // Each state goes to its id, leaving the outdated one in the slot for reuse.
-        for (id, state) in current.iter_mut().enumerate() {
-            std::mem::swap(state, &mut next[grid.slot(swarm.index_of(id))]);
+        // Each state goes to its storage index, leaving the outdated one in the slot for reuse.
+        for (index, state) in current.iter_mut().enumerate() {
+            std::mem::swap(state, &mut next[grid.slot(index)]);
         }
         true
     }
 
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64> {
         self.law
-            .command(satellite, &self.current[satellite.id()], context)
+            .command(satellite, &self.current[satellite.index()], context)
     }
 
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError> {
@@ -293,18 +337,33 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         self.law.set_parameters(typed)
     }
 
-    fn write_outputs(&self, values: &mut [f64]) {
+    fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>) {
         let k = self.law.output_names().len();
         if k == 0 {
             return;
         }
-        for (state, row) in self.current.iter().zip(values.chunks_mut(k)) {
+        for (state, row) in self
+            .states_by_id(placement)
+            .iter()
+            .zip(values.chunks_mut(k))
+        {
             self.law.write_outputs(state, row);
         }
     }
 
-    fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]) {
-        self.law.record_metrics(swarm, &self.current, values);
+    fn record_metrics(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        values: &mut [f64],
+        placement: Option<Placement<'_>>,
+    ) {
+        match placement {
+            None => self.law.record_metrics(swarm, &self.current, values),
+            Some(_) => {
+                let by_id = self.states_by_id(placement).into_owned();
+                self.law.record_metrics(swarm, &by_id, values);
+            }
+        }
     }
 
     fn centralised_due(&self, time_s: f64) -> bool {
@@ -315,8 +374,19 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         self.law.centralised_update(swarm)
     }
 
-    fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
-        self.law.results(swarm, &self.current)
+    fn results(
+        &self,
+        swarm: &SwarmView<'_>,
+        placement: Option<Placement<'_>>,
+    ) -> BTreeMap<String, serde_json::Value> {
+        self.law.results(swarm, &self.states_by_id(placement))
+    }
+
+    fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+        if self.current.len() == moves.len() {
+            permute(&mut self.current, moves, visited);
+            permute(&mut self.next, moves, visited);
+        }
     }
 
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
@@ -392,9 +462,10 @@ impl Law {
         self.0.as_any().downcast_ref::<L>()
     }
 
-    /// Every satellite's law state after the last update, by satellite id, if the law is of type `L`
+    /// Every satellite's law state after the last update, by storage index (the engine's storage
+    /// order: see [`crate::swarm::Simulation::law_states`] for them by id), if the law is of type `L`
     /// (empty before the law is initialised).
-    pub fn states<L: GuidanceLaw>(&self) -> Option<&[L::State]> {
+    pub(crate) fn states<L: GuidanceLaw>(&self) -> Option<&[L::State]> {
         self.0
             .states_as_any()
             .downcast_ref::<Vec<L::State>>()
@@ -402,18 +473,30 @@ impl Law {
     }
 
     /// Writes every satellite's per-satellite outputs into `values` (satellite-major: satellite i's
-    /// outputs at `i * k .. (i + 1) * k`, k = the number of output names).
-    pub fn write_outputs(&self, values: &mut [f64]) {
-        self.0.write_outputs(values)
+    /// outputs at `i * k .. (i + 1) * k`, k = the number of output names), the states being stored in
+    /// the storage order `placement`.
+    pub(crate) fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>) {
+        self.0.write_outputs(values, placement)
     }
 
-    pub(crate) fn initialise(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
-        self.0.initialise(swarm)
+    /// Creates every satellite's state and initialises the law with the whole swarm (`swarm` by id),
+    /// the states then being stored in the storage order `placement`.
+    pub(crate) fn initialise(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        placement: Option<Placement<'_>>,
+    ) -> Result<(), LawError> {
+        self.0.initialise(swarm, placement)
+    }
+
+    /// Moves the states to the storage order in which new index `k` holds old index `moves[k]`.
+    pub(crate) fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+        self.0.permute_states(moves, visited)
     }
 
     /// Updates every live satellite's state (removed satellites keep theirs), evaluating the satellites
-    /// in the sensing grid's cell order (`active` and `context` take a satellite's entry in the view's
-    /// slices; the states are by id): the same bits as [`Self::update_states_in_id_order`], faster
+    /// in the sensing grid's cell order (`active`, `context` and the states are by entry in the view's
+    /// slices, the storage order): the same bits as [`Self::update_states_in_id_order`], faster
     /// on large swarms. Falls back to id order when the grid does not hold every satellite (left empty
     /// by a non-finite navigation position).
     pub(crate) fn update_states(
@@ -465,8 +548,13 @@ impl Law {
         self.0.set_parameters(parameters)
     }
 
-    pub(crate) fn record_metrics(&mut self, swarm: &SwarmView<'_>, values: &mut [f64]) {
-        self.0.record_metrics(swarm, values)
+    pub(crate) fn record_metrics(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        values: &mut [f64],
+        placement: Option<Placement<'_>>,
+    ) {
+        self.0.record_metrics(swarm, values, placement)
     }
 
     pub(crate) fn centralised_due(&self, time_s: f64) -> bool {
@@ -477,8 +565,12 @@ impl Law {
         self.0.centralised_update(swarm)
     }
 
-    pub(crate) fn results(&self, swarm: &SwarmView<'_>) -> BTreeMap<String, serde_json::Value> {
-        self.0.results(swarm)
+    pub(crate) fn results(
+        &self,
+        swarm: &SwarmView<'_>,
+        placement: Option<Placement<'_>>,
+    ) -> BTreeMap<String, serde_json::Value> {
+        self.0.results(swarm, placement)
     }
 }
 
@@ -556,9 +648,9 @@ mod tests {
             let time_s = tick as f64 * PERIOD_S;
             let swarm = view(&states, &masses_kg, &active, &links_up, &grid, time_s);
             if tick == 0 {
-                reference.initialise(&swarm).unwrap();
+                reference.initialise(&swarm, None).unwrap();
                 for law in &mut laws {
-                    law.initialise(&swarm).unwrap();
+                    law.initialise(&swarm, None).unwrap();
                 }
             }
             reference.update_states_in_id_order(&swarm, &active, &|i| context(i, tick));
@@ -608,8 +700,8 @@ mod tests {
             )
         };
         let (mut reference, mut law) = (pigeon(), pigeon());
-        reference.initialise(&swarm).unwrap();
-        law.initialise(&swarm).unwrap();
+        reference.initialise(&swarm, None).unwrap();
+        law.initialise(&swarm, None).unwrap();
         reference.update_states_in_id_order(&swarm, &flags, &context);
         law.update_states(&swarm, &flags, &context);
         let updated = law.states::<Pigeon>().unwrap();
@@ -697,8 +789,8 @@ mod tests {
         let swarm = view(&states, &masses_kg, &active, &active, &grid, 0.0);
         let tick = Tick { active: &active };
         let (mut reference, mut fused) = (Law::new(Nested), Law::new(Nested));
-        reference.initialise(&swarm).unwrap();
-        fused.initialise(&swarm).unwrap();
+        reference.initialise(&swarm, None).unwrap();
+        fused.initialise(&swarm, None).unwrap();
         reference.update_states_in_id_order(&swarm, &active, &|i| {
             tick.update_context(i, Actuator::new(5.0, LimitKind::PerAxis))
         });

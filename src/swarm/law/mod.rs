@@ -35,11 +35,11 @@ use thiserror::Error;
 pub use context::LawContext;
 pub(crate) use handle::{own_batch, TickEvaluation, OWN_BATCH};
 pub use handle::{Law, LawParameters};
+pub(crate) use view::OwnSample;
 pub use view::{
     Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,
     SwarmFacts, SwarmView,
 };
-pub(crate) use view::{OwnSample, Placement};
 
 /// What a law's command is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

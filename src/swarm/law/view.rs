@@ -12,6 +12,7 @@ use crate::environment::{Obstacle, Threat};
 use crate::grid::NeighbourGrid;
 use crate::orbit::RelativeStateHill;
 use crate::relative::SchweighartSedwick;
+use crate::swarm::storage_order::Placement;
 
 /// Swarm-level information granted to every satellite (ground warnings, broadcast quantities).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,6 +91,9 @@ pub struct Neighbour {
     pub offset_m: Vector3<f64>,
     /// Distance between the two satellites \[m\].
     pub distance_m: f64,
+    /// The neighbour's entry in the view's slices (the engine's storage order), where its broadcast
+    /// is.
+    index: usize,
 }
 
 /// The whole swarm as the engine sees it at one right-hand-side evaluation: navigation states relative to
@@ -119,16 +123,6 @@ pub struct SwarmView<'a> {
     /// order of its own (`None`: entry `i` is satellite `i`). Views a law's whole-swarm hooks get are
     /// always by id.
     placement: Option<Placement<'a>>,
-}
-
-/// Which satellite id each entry of a view's per-satellite slices holds, and back: the engine's storage
-/// order (see `swarm/simulation/order.rs`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Placement<'a> {
-    /// Satellite id of each storage index.
-    pub id_of: &'a [u32],
-    /// Storage index of each satellite id.
-    pub index_of: &'a [u32],
 }
 
 /// What a law may check about the swarm it will steer before it runs: the same facts at load time (from
@@ -336,6 +330,11 @@ impl SatelliteView<'_> {
         self.id
     }
 
+    /// This satellite's entry in the view's slices (the engine's storage order).
+    pub(crate) fn index(&self) -> usize {
+        self.index
+    }
+
     /// Own state relative to the LVLH origin, Hill frame \[m, m/s\].
     pub fn own_state(&self) -> RelativeStateHill {
         match &self.own {
@@ -392,6 +391,7 @@ impl SatelliteView<'_> {
         }
         let mut report = |nb: crate::grid::Neighbour| {
             visit(&Neighbour {
+                index: nb.index,
                 id: s.id_at(nb.index),
                 state: s.relative_states[nb.index],
                 offset_m: Vector3::new(nb.dx_m, nb.dy_m, nb.dz_m),
@@ -518,9 +518,11 @@ pub struct Broadcast<'a, S> {
 }
 
 impl<'a, S> Broadcast<'a, S> {
-    pub(crate) fn new(id: usize, previous: &'a [S]) -> Self {
+    /// The broadcasts `previous` (by storage index) as the satellite at storage index `index` reads
+    /// them.
+    pub(crate) fn new(index: usize, previous: &'a [S]) -> Self {
         Self {
-            own: &previous[id],
+            own: &previous[index],
             previous,
         }
     }
@@ -532,7 +534,7 @@ impl<'a, S> Broadcast<'a, S> {
 
     /// What `neighbour` broadcast at the previous tick.
     pub fn of(&self, neighbour: &Neighbour) -> &'a S {
-        &self.previous[neighbour.id]
+        &self.previous[neighbour.index]
     }
 }
 

@@ -10,7 +10,7 @@
 //! | `timeline` | applying the events that fall due |
 //! | `monitors` | truth checks after every segment: divergence, separation, threat approach, obstacle clearance |
 //! | `snapshots` | what a recorder receives at every recording time |
-//! | `order` | the storage order of the satellites (re-sorted by grid cell in sampled control) |
+//! | `resort` | the periodic re-sort of the satellites' storage order by grid cell (sampled control) |
 //!
 //! Control timing (see `DESIGN.md`):
 //! * [`ControlTiming::Continuous`]: the law's command is evaluated inside the integrator's right-hand
@@ -26,14 +26,15 @@
 //! are serial; every random draw comes from [`crate::random`] keyed by (seed, purpose, satellite, tick).
 //! Results are therefore bitwise identical for any number of threads.
 //!
-//! Storage order: every per-satellite array is kept in the engine's storage order (module `order`),
+//! Storage order: every per-satellite array is kept in the engine's storage order
+//! (`swarm/storage_order.rs`),
 //! re-sorted by grid cell in sampled control; ids, random streams, events, laws and outputs are by id,
 //! and no result depends on the storage order.
 
 mod config;
 mod monitors;
-mod order;
 mod propagation;
+mod resort;
 mod scheduler;
 mod sensing;
 mod snapshots;
@@ -55,11 +56,12 @@ use crate::orbit::{CartesianState, GravityModel, LvlhFrame, RelativeStateHill};
 use crate::relative::SchweighartSedwick;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::events::{Event, EventAction, Selection};
-use crate::swarm::law::{Law, SwarmView};
+use crate::swarm::law::{GuidanceLaw, Law, SwarmView};
 use crate::swarm::state::SwarmState;
+use crate::swarm::storage_order::{Placement, StorageOrder};
 use monitors::LiveMetrics;
-use order::{StorageOrder, RESORT_PERIOD_TICKS};
 use propagation::{SampledBuffers, StageScratch};
+use resort::RESORT_PERIOD_TICKS;
 use sensing::{Fleet, FleetById, Plant, Sensed};
 
 /// How a segment's integration is done: the coupled system (continuous) or satellites alone (sampled).
@@ -376,11 +378,25 @@ impl Simulation {
         &self.law
     }
 
+    /// Every satellite's state of the running law now, by id, if the law is of type `L`.
+    pub fn law_states<L: GuidanceLaw>(&self) -> Option<Vec<L::State>> {
+        let states = self.law.states::<L>()?;
+        Some(match self.fleet.order.placement() {
+            None => states.to_vec(),
+            Some(p) => p
+                .index_of
+                .iter()
+                .map(|&k| states[k as usize].clone())
+                .collect(),
+        })
+    }
+
     /// Every satellite's per-satellite law outputs now (satellite-major, see [`Law::write_outputs`]);
     /// the names are `self.law().output_names()`.
     pub fn law_outputs(&self) -> Vec<f64> {
         let mut values = vec![0.0; self.law.output_names().len() * self.state.n()];
-        self.law.write_outputs(&mut values);
+        self.law
+            .write_outputs(&mut values, self.fleet.order.placement());
         values
     }
 
@@ -416,8 +432,11 @@ impl Simulation {
     }
 
     /// Calls `f` with the running law and a whole-swarm view of the truth relative states now (no
-    /// navigation noise), by id: the view the law's whole-swarm hooks get.
-    fn with_truth_view<R>(&mut self, f: impl FnOnce(&mut Law, &SwarmView<'_>) -> R) -> R {
+    /// navigation noise), by id: the view the law's whole-swarm hooks get; and the storage order.
+    fn with_truth_view<R>(
+        &mut self,
+        f: impl FnOnce(&mut Law, &SwarmView<'_>, Option<Placement<'_>>) -> R,
+    ) -> R {
         let plant = Plant::new(
             &self.config,
             &self.fleet,
@@ -426,11 +445,11 @@ impl Simulation {
         );
         let mut by_id = FleetById::default();
         let view = plant.view_by_id(self.time_s, &self.truth, &mut self.sensed, &mut by_id);
-        f(&mut self.law, &view)
+        f(&mut self.law, &view, self.fleet.order.placement())
     }
 
     fn initialise_law(&mut self) -> Result<(), SimError> {
-        self.with_truth_view(|law, view| law.initialise(view))?;
+        self.with_truth_view(|law, view, placement| law.initialise(view, placement))?;
         Ok(())
     }
 
@@ -466,7 +485,7 @@ impl Simulation {
 
     /// The law's results for the summary, from the current (final) swarm.
     pub fn law_results(&mut self) -> std::collections::BTreeMap<String, serde_json::Value> {
-        self.with_truth_view(|law, view| law.results(view))
+        self.with_truth_view(|law, view, placement| law.results(view, placement))
     }
 }
 

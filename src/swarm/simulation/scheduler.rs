@@ -204,7 +204,7 @@ impl Simulation {
         self.timings.sensing_s += clock.elapsed().as_secs_f64();
         if self.law.centralised_due(t0) {
             let clock = Instant::now();
-            self.with_truth_view(|law, view| law.centralised_update(view))?;
+            self.with_truth_view(|law, view, _| law.centralised_update(view))?;
             self.timings.law_s += clock.elapsed().as_secs_f64();
         }
         let tick = self.tick;

@@ -11,12 +11,12 @@ use crate::relative::SchweighartSedwick;
 use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::{
-    own_batch, EnvironmentView, Law, LawContext, OwnSample, Placement, SatelliteView, SharedInfo,
-    SwarmView, TickEvaluation, OWN_BATCH,
+    own_batch, EnvironmentView, Law, LawContext, OwnSample, SatelliteView, SharedInfo, SwarmView,
+    TickEvaluation, OWN_BATCH,
 };
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
-use crate::swarm::simulation::order::StorageOrder;
 use crate::swarm::state::{reference_of, satellite_of};
+use crate::swarm::storage_order::{Placement, StorageOrder};
 
 pub(super) use crate::swarm::CHUNK;
 

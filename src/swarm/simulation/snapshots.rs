@@ -90,7 +90,8 @@ impl Simulation {
             );
             let mut by_id = FleetById::default();
             let view = plant.view_by_id(self.time_s, &self.truth, &mut self.sensed, &mut by_id);
-            self.law.record_metrics(&view, &mut law_metrics);
+            self.law
+                .record_metrics(&view, &mut law_metrics, self.fleet.order.placement());
         }
         let law_output_names = self.law.output_names();
         let law_outputs = self.law_outputs();

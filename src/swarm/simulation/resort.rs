@@ -1,113 +1,20 @@
-//! The satellites' storage order. The engine keeps every per-satellite array (state, fleet, truth,
-//! commands, buffers) in one order of its own, the **storage order**, and in sampled control re-sorts it
-//! every [`RESORT_PERIOD_TICKS`] ticks by sensing-grid cell (a stable key: cell, then id), so satellites
-//! near in space are near in memory and the per-tick passes (grid build, each satellite's own data, its
-//! neighbours' states, its command) read memory nearly in sequence instead of at random on a large
-//! swarm. Ids never change: a satellite's id is its index in the scenario, and everything a law, a
-//! random stream, an event or an output names is by id; [`StorageOrder`] translates.
+//! The periodic re-sort of the satellites' storage order (`crate::swarm::storage_order`): in sampled
+//! control, every [`RESORT_PERIOD_TICKS`] ticks, by sensing-grid cell (a stable key: cell, then id), so
+//! satellites near in space are near in memory and the per-tick passes (grid build, each satellite's
+//! own data, its neighbours' states and broadcasts, its command) read memory nearly in sequence instead
+//! of at random on a large swarm. Every per-satellite array moves with it, the law's states included.
 //!
 //! Nothing a run computes depends on the storage order: each satellite's computations read the same
 //! inputs wherever it is stored, neighbours are visited in (cell, id) order whatever the storage order
 //! ([`crate::grid::NeighbourGrid::build_ranked`]), and what is summed over satellites is summed by id.
 //! So a run gives the same bits re-sorted at every tick or never (tested below, on every law).
 
-use crate::swarm::law::Placement;
 use crate::swarm::simulation::{ControlTiming, Simulation};
+use crate::swarm::storage_order::permute;
 
 /// Control ticks between two re-sorts of the storage order (sampled control only). Satellites drift
 /// across cells slowly compared with a tick, and a re-sort costs a few passes over the swarm.
 pub(super) const RESORT_PERIOD_TICKS: u64 = 32;
-
-/// Which satellite id each storage index holds, and back.
-#[derive(Clone, Debug)]
-pub(super) struct StorageOrder {
-    /// Satellite id at each storage index.
-    id_of: Vec<u32>,
-    /// Storage index of each satellite id.
-    index_of: Vec<u32>,
-    /// Whether storage index == id for every satellite.
-    identity: bool,
-}
-
-impl StorageOrder {
-    /// The identity order of `n` satellites (storage index = id).
-    pub fn identity(n: usize) -> Self {
-        let id_of: Vec<u32> = (0..n as u32).collect();
-        Self {
-            index_of: id_of.clone(),
-            id_of,
-            identity: true,
-        }
-    }
-
-    /// The satellite id stored at `index`.
-    #[inline]
-    pub fn id_at(&self, index: usize) -> usize {
-        self.id_of[index] as usize
-    }
-
-    /// The storage index of satellite `id`.
-    #[inline]
-    pub fn index_of(&self, id: usize) -> usize {
-        self.index_of[id] as usize
-    }
-
-    /// The ids by storage index, for a ranked grid build; `None` for the identity order.
-    pub fn ranks(&self) -> Option<&[u32]> {
-        (!self.identity).then_some(self.id_of.as_slice())
-    }
-
-    /// The translation a view needs; `None` for the identity order.
-    pub fn placement(&self) -> Option<Placement<'_>> {
-        (!self.identity).then(|| Placement {
-            id_of: &self.id_of,
-            index_of: &self.index_of,
-        })
-    }
-
-    /// Gathers `by_index` (one value per storage index) into id order.
-    pub fn by_id<T: Copy>(&self, by_index: &[T]) -> Vec<T> {
-        self.index_of
-            .iter()
-            .map(|&k| by_index[k as usize])
-            .collect()
-    }
-
-    /// Moves to the storage order in which new index `k` holds what old index `moves[k]` held.
-    fn apply(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
-        permute(&mut self.id_of, moves, visited);
-        for (k, &id) in self.id_of.iter().enumerate() {
-            self.index_of[id as usize] = k as u32;
-        }
-        self.identity = self
-            .id_of
-            .iter()
-            .enumerate()
-            .all(|(k, &id)| k == id as usize);
-    }
-}
-
-/// Rearranges `data` in place so that `data[k]` afterwards holds what `data[moves[k]]` held (`moves` a
-/// permutation of `0..data.len()`), following each cycle of the permutation with swaps; `visited` is
-/// scratch.
-fn permute<T>(data: &mut [T], moves: &[u32], visited: &mut Vec<bool>) {
-    debug_assert_eq!(data.len(), moves.len());
-    visited.clear();
-    visited.resize(data.len(), false);
-    for start in 0..data.len() {
-        if visited[start] {
-            continue;
-        }
-        let mut k = start;
-        visited[k] = true;
-        while moves[k] as usize != start {
-            let next = moves[k] as usize;
-            data.swap(k, next);
-            visited[next] = true;
-            k = next;
-        }
-    }
-}
 
 impl Simulation {
     /// Re-sorts the storage order by sensing-grid cell of the truth positions now (cell, then id) if
@@ -146,6 +53,7 @@ impl Simulation {
         if let Some(guesses) = self.integration.step_guesses_s() {
             permute(guesses, &moves, &mut visited);
         }
+        self.law.permute_states(&moves, &mut visited);
         // The separation tracker's anchors are by storage index: its next update searches afresh.
         self.live.forget_anchors();
     }
@@ -155,7 +63,6 @@ impl Simulation {
 mod tests {
     use std::path::Path;
 
-    use super::*;
     use crate::run::build_simulation;
     use crate::scenario::Scenario;
     use crate::swarm::recorder::{Recorder, Snapshot};
@@ -295,22 +202,5 @@ mod tests {
             assert!(never == every, "case {k}: records differ");
             assert_eq!(never_summary, every_summary, "case {k}");
         }
-    }
-
-    #[test]
-    fn permute_moves_each_entry_from_its_old_index() {
-        let moves = [3u32, 0, 4, 1, 2, 5];
-        let mut data = ['a', 'b', 'c', 'd', 'e', 'f'];
-        let mut visited = Vec::new();
-        permute(&mut data, &moves, &mut visited);
-        assert_eq!(data, ['d', 'a', 'e', 'b', 'c', 'f']);
-        let mut order = StorageOrder::identity(6);
-        order.apply(&moves, &mut visited);
-        assert!(order.ranks().is_some());
-        for (k, &id) in moves.iter().enumerate() {
-            assert_eq!(order.id_at(k), id as usize);
-            assert_eq!(order.index_of(order.id_at(k)), k);
-        }
-        assert_eq!(order.by_id(&data), ['a', 'b', 'c', 'd', 'e', 'f']);
     }
 }
