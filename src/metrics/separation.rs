@@ -158,11 +158,27 @@ impl SeparationTracker {
         Self::default()
     }
 
-    /// Forgets the last full search, keeping the buffers: the next update is a full search. For a
-    /// caller whose ids changed meaning since the last update (the engine re-sorting its storage).
-    pub fn forget_anchors(&mut self) {
-        self.anchors.clear();
-        self.closest = None;
+    /// The caller renumbered its satellites (the engine re-sorting its storage): `move_anchors` gets
+    /// the per-id anchors, one per id `0..n` (NaN-marked where an id had none), to rearrange by the new
+    /// ids, and `new_id` maps an old id to its new one. The next update can then stay a narrow search.
+    pub(crate) fn renumber(
+        &mut self,
+        n: usize,
+        move_anchors: impl FnOnce(&mut [[f64; 4]]),
+        new_id: impl Fn(usize) -> usize,
+    ) {
+        if self.anchors.len() > n {
+            // Ids beyond the renumbering: start afresh.
+            self.anchors.clear();
+            self.closest = None;
+            return;
+        }
+        self.anchors.resize(n, [0.0, 0.0, 0.0, f64::NAN]);
+        move_anchors(&mut self.anchors);
+        self.closest = self.closest.map(|(a, b)| {
+            let (a, b) = (new_id(a), new_id(b));
+            (a.min(b), a.max(b))
+        });
     }
 
     /// Full searches done so far (the first update, and whenever the bound let too many through).
@@ -468,6 +484,21 @@ mod tests {
         removals: bool,
         seed: u64,
     ) -> (u64, u64) {
+        let (full, narrow, _) = check_motion_renumbered(motion, n, steps, removals, false, seed);
+        (full, narrow)
+    }
+
+    /// [`check_motion`], the satellites renumbered by a random permutation every 9th step when
+    /// `renumber` (positions, velocities, radii and flags move with them, and the tracker is told):
+    /// also returns how many updates right after a renumbering were narrow searches.
+    fn check_motion_renumbered(
+        motion: Motion,
+        n: usize,
+        steps: usize,
+        removals: bool,
+        renumber: bool,
+        seed: u64,
+    ) -> (u64, u64, u64) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut position: Vec<[f64; 3]> = Vec::with_capacity(n);
         let mut velocity: Vec<[f64; 3]> = Vec::with_capacity(n);
@@ -514,9 +545,33 @@ mod tests {
                 }
             })
             .collect();
-        let mut live = vec![true; n];
+        let (mut radii, mut live) = (radii, vec![true; n]);
         let mut tracker = SeparationTracker::new();
+        let mut narrow_after_renumbering = 0;
         for step in 0..steps {
+            let renumbered = renumber && step % 9 == 4;
+            if renumbered {
+                let mut moves: Vec<u32> = (0..n as u32).collect();
+                for k in (1..n).rev() {
+                    moves.swap(k, rng.random_range(0..=k));
+                }
+                fn gather<T: Copy>(data: &mut [T], moves: &[u32]) {
+                    let old = data.to_vec();
+                    for (k, &m) in moves.iter().enumerate() {
+                        data[k] = old[m as usize];
+                    }
+                }
+                gather(&mut position, &moves);
+                gather(&mut velocity, &moves);
+                gather(&mut radii, &moves);
+                gather(&mut live, &moves);
+                tracker.renumber(
+                    n,
+                    |anchors| gather(anchors, &moves),
+                    |old| moves.iter().position(|&m| m as usize == old).unwrap(),
+                );
+            }
+            let narrow_before = tracker.narrow_searches();
             if removals && step > 0 && step % 7 == 0 {
                 let k = rng.random_range(0..n);
                 live[k] = !live[k];
@@ -539,6 +594,9 @@ mod tests {
             let want = brute_force(&ids, &p, &r);
             assert_eq!(got, want, "{motion:?} n = {n} step {step}");
             assert_eq!(got.min_distance_m.to_bits(), want.min_distance_m.to_bits());
+            if renumbered && tracker.narrow_searches() > narrow_before {
+                narrow_after_renumbering += 1;
+            }
             for i in 0..n {
                 let jitter = match motion {
                     Motion::Clustered => 0.02,
@@ -549,7 +607,28 @@ mod tests {
                 }
             }
         }
-        (tracker.full_searches(), tracker.narrow_searches())
+        (
+            tracker.full_searches(),
+            tracker.narrow_searches(),
+            narrow_after_renumbering,
+        )
+    }
+
+    /// Renumbering the satellites between updates (as the engine's storage re-sort does) keeps every
+    /// answer equal to the brute force, and the update right after it stays a narrow search.
+    #[test]
+    fn tracker_follows_a_renumbering() {
+        for motion in [Motion::Random, Motion::Clustered, Motion::Colliding] {
+            let (full, narrow, after) = check_motion_renumbered(motion, 300, 60, true, true, 29);
+            assert!(
+                full >= 1 && narrow >= 10,
+                "{motion:?}: {full} full, {narrow} narrow"
+            );
+            assert!(
+                after >= 3,
+                "{motion:?}: {after} narrow updates right after a renumbering"
+            );
+        }
     }
 
     /// The tracker equals the O(N²) brute force (distance bit for bit, pair, collision count) at every

@@ -45,6 +45,10 @@ pub enum BenchCommand {
         /// Timed steps (default: the suite's, fewer at larger N); more for profiling.
         #[arg(long)]
         steps: Option<usize>,
+        /// Control ticks between re-sorts of the satellites' storage by grid cell (0: never; default:
+        /// the engine's).
+        #[arg(long)]
+        resort_every: Option<u64>,
     },
 }
 
@@ -52,7 +56,12 @@ pub enum BenchCommand {
 pub fn bench_command(args: &BenchArgs) -> Result<()> {
     match &args.action {
         Some(BenchCommand::Propagate(propagate)) => propagate::run(propagate),
-        Some(BenchCommand::Case { name, n, steps }) => suite::run_case(name, *n, *steps),
+        Some(BenchCommand::Case {
+            name,
+            n,
+            steps,
+            resort_every,
+        }) => suite::run_case(name, *n, *steps, *resort_every),
         None => suite::run_suite(args.quick, args.case.as_deref(), args.max_n),
     }
 }

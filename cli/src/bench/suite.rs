@@ -120,8 +120,14 @@ fn steps_for(n: usize) -> usize {
 }
 
 /// Measures one case at `n` satellites in this process over `steps` timed steps (the suite's default for
-/// `n` when `None`) and prints its JSON line (`satflock bench case`).
-pub fn run_case(name: &str, n: usize, steps: Option<usize>) -> Result<()> {
+/// `n` when `None`), re-sorting the storage every `resort_every` ticks (the engine's default when
+/// `None`), and prints its JSON line (`satflock bench case`).
+pub fn run_case(
+    name: &str,
+    n: usize,
+    steps: Option<usize>,
+    resort_every: Option<u64>,
+) -> Result<()> {
     let &(name, law, largest) = case_entry(name)?;
     if !(2..=largest).contains(&n) {
         return Err(crate::usage(format!(
@@ -138,6 +144,9 @@ pub fn run_case(name: &str, n: usize, steps: Option<usize>) -> Result<()> {
         (1, clock.elapsed().as_secs_f64(), None)
     } else {
         let mut simulation = simulation(name, n)?;
+        if let Some(ticks) = resort_every {
+            simulation.set_resort_period_ticks(ticks);
+        }
         simulation.step()?;
         let before = simulation.stage_timings();
         let steps = steps.unwrap_or_else(|| steps_for(n));

@@ -345,6 +345,13 @@ impl Simulation {
         by_id
     }
 
+    /// Re-sorts the satellites' storage by grid cell every `ticks` control ticks from now on (sampled
+    /// control; 0: never; default 32). No result depends on it, only the speed on large swarms: satellites
+    /// near in space are then near in memory (see `DESIGN.md`, "Storage order").
+    pub fn set_resort_period_ticks(&mut self, ticks: u64) {
+        self.resort_period_ticks = ticks;
+    }
+
     /// Number of satellites N (removed ones included).
     pub fn satellite_count(&self) -> usize {
         self.state.n()

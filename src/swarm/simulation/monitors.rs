@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::{Divergence, SimError, Simulation};
+use crate::swarm::storage_order::permute;
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
 pub(super) struct LiveMetrics {
@@ -23,10 +24,14 @@ pub(super) struct LiveMetrics {
 }
 
 impl LiveMetrics {
-    /// Forgets the separation tracker's last full search (its anchors are by storage index, which a
-    /// re-sort changes): the next update searches afresh.
-    pub fn forget_anchors(&mut self) {
-        self.tracker.forget_anchors();
+    /// Moves the separation tracker's anchors (by storage index) to the storage order in which new
+    /// index `k` holds old index `moves[k]`.
+    pub fn move_anchors(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+        self.tracker.renumber(
+            moves.len(),
+            |anchors| permute(anchors, moves, visited),
+            |old| moves.iter().position(|&m| m as usize == old).unwrap_or(old),
+        );
     }
 
     pub fn new(n: usize) -> Self {

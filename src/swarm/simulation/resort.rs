@@ -54,8 +54,8 @@ impl Simulation {
             permute(guesses, &moves, &mut visited);
         }
         self.law.permute_states(&moves, &mut visited);
-        // The separation tracker's anchors are by storage index: its next update searches afresh.
-        self.live.forget_anchors();
+        // The separation tracker's anchors are by storage index: they move too.
+        self.live.move_anchors(&moves, &mut visited);
     }
 }
 
