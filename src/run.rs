@@ -351,8 +351,9 @@ pub fn run_prepared(
 
     let law_results = simulation.law_results();
     let totals = simulation.totals().clone();
-    let ledger: Vec<([f64; 3], f64)> = (0..n).map(|i| simulation.state().ledger(i)).collect();
-    let live: Vec<usize> = (0..n).filter(|&i| simulation.active()[i]).collect();
+    let (state, active) = (simulation.state(), simulation.active());
+    let ledger: Vec<([f64; 3], f64)> = (0..n).map(|i| state.ledger(i)).collect();
+    let live: Vec<usize> = (0..n).filter(|&i| active[i]).collect();
     let count = live.len().max(1) as f64;
     let mut mean_axes = [0.0; 3];
     for &i in &live {

@@ -1059,6 +1059,7 @@ fn val_holding_the_nodes_costs_exactly_the_hcw_offset_acceleration() {
         let mut rec = Collect::default();
         sim.run(&mut rec, &mut |_| {}).unwrap();
         let dv = rec.delta_v.last().unwrap();
+        let states = sim.states_hill();
         let mut mean = 0.0;
         for (i, node) in nodes.iter().enumerate() {
             let expected = 3.0 * n() * n() * node.x.abs() * duration;
@@ -1067,7 +1068,7 @@ fn val_holding_the_nodes_costs_exactly_the_hcw_offset_acceleration() {
                 "{strategy:?} satellite {i}: Δv {} vs {expected}",
                 dv[i]
             );
-            assert!((sim.states_hill()[i].position_m - node).norm() <= 1e-9);
+            assert!((states[i].position_m - node).norm() <= 1e-9);
             mean += dv[i] / 4.0;
         }
         assert!((mean - 1.81e-3).abs() < 5e-6, "mean Δv {mean}");

@@ -833,13 +833,14 @@ fn val_kinematic_velocity_field_follows_the_exact_solution() {
     }
     eprintln!("kinematic continuous: worst error vs e^(-kt) {worst_analytic:.3e} m");
     // The velocity state is the command at the end state; the ledger stays zero.
+    let state = sim.state();
     for (i, s) in sim.states_hill().iter().enumerate() {
         let expected = -k * (s.position_m - goal);
         assert!(
             (s.velocity_mps - expected).norm() < 1e-14,
             "sat {i} velocity"
         );
-        assert_eq!(sim.state().ledger(i), ([0.0; 3], 0.0));
+        assert_eq!(state.ledger(i), ([0.0; 3], 0.0));
     }
 
     // Sampled.
@@ -1035,8 +1036,9 @@ fn val_process_noise_has_the_configured_statistics_and_costs_no_delta_v() {
     assert!(mean.abs() < 5.0 * standard_error, "mean {mean} σ");
     assert!(lag.abs() < 0.02, "tick-to-tick correlation {lag}");
     // A disturbance, not a manoeuvre: the delta-v ledger is exactly zero.
+    let state = sim.state();
     for i in 0..initial.len() {
-        assert_eq!(sim.state().ledger(i), ([0.0; 3], 0.0), "satellite {i}");
+        assert_eq!(state.ledger(i), ([0.0; 3], 0.0), "satellite {i}");
     }
 }
 

@@ -503,7 +503,8 @@ impl NeighbourGrid {
     }
 
     /// The satellites in storage order: `cell_order()[s]` is the satellite stored in slot `s`. Storage
-    /// order is cell order (cells ascending in (z, y, x), within a cell ascending index), so satellites
+    /// order is cell order (cells ascending in (z, y, x), within a cell ascending index, or ascending
+    /// rank after [`Self::build_ranked`]), so satellites
     /// next to each other here are close in space: evaluating per-satellite work in this order keeps
     /// neighbouring satellites' data in cache. Empty before a successful build.
     pub fn cell_order(&self) -> &[u32] {

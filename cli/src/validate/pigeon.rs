@@ -381,6 +381,7 @@ pub fn run_job(job: &Job) -> Result<Run, ValidateError> {
     let n = sim.states_hill().len();
     let every_second =
         |v: &[f64]| -> Vec<f64> { v.iter().step_by(per_second as usize).copied().collect() };
+    let state = sim.state();
     Ok(Run {
         job: job.clone(),
         tick_s: tick,
@@ -400,7 +401,7 @@ pub fn run_job(job: &Job) -> Result<Run, ValidateError> {
         min_clearance,
         last_near_obstacle_s: last_near,
         passed_obstacles_s: passed,
-        delta_v_mps: (0..n).map(|i| sim.state().ledger(i).1).collect(),
+        delta_v_mps: (0..n).map(|i| state.ledger(i).1).collect(),
         switches,
         law_metric_mismatch,
         final_states: states(&sim),

@@ -257,12 +257,13 @@ fn sample(sim: &Simulation) -> Sample {
     let states = sim.states_hill();
     let n = states.len();
     let monitor = sim.approach_monitor();
+    let state = sim.state();
     Sample {
         time_s: sim.time_s(),
         positions_m: states.iter().map(|s| s.position_m).collect(),
         velocities_mps: states.iter().map(|s| s.velocity_mps).collect(),
-        delta_v_mps: (0..n).map(|i| sim.state().ledger(i).1).collect(),
-        delta_v_axes_mps: (0..n).map(|i| sim.state().ledger(i).0).collect(),
+        delta_v_mps: (0..n).map(|i| state.ledger(i).1).collect(),
+        delta_v_axes_mps: (0..n).map(|i| state.ledger(i).0).collect(),
         miss_m: (0..n)
             .map(|i| {
                 monitor

@@ -27,7 +27,7 @@ use super::{
 use crate::swarm::storage_order::{permute, Placement};
 use crate::swarm::{Actuator, CHUNK};
 
-/// Satellites whose own data a pass copies out together before evaluating them (loads by id, scattered
+/// Satellites whose own data a pass copies out together before evaluating them (loads by storage index, scattered
 /// in memory on a large swarm, issued back to back so they overlap).
 pub(crate) const OWN_BATCH: usize = 16;
 
@@ -149,18 +149,16 @@ struct Stateful<L: GuidanceLaw> {
     next: Vec<L::State>,
 }
 
-impl<L: GuidanceLaw> Stateful<L> {
-    /// The current states by id: borrowed in the identity order, gathered otherwise.
-    fn states_by_id(&self, placement: Option<Placement<'_>>) -> Cow<'_, [L::State]> {
-        match placement {
-            None => Cow::Borrowed(&self.current),
-            Some(p) => Cow::Owned(
-                p.index_of
-                    .iter()
-                    .map(|&k| self.current[k as usize].clone())
-                    .collect(),
-            ),
-        }
+/// `states` (by storage index) by id: borrowed in the identity order, gathered otherwise.
+fn states_by_id<'s, S: Clone>(states: &'s [S], placement: Option<Placement<'_>>) -> Cow<'s, [S]> {
+    match placement {
+        None => Cow::Borrowed(states),
+        Some(p) => Cow::Owned(
+            p.index_of
+                .iter()
+                .map(|&k| states[k as usize].clone())
+                .collect(),
+        ),
     }
 }
 
@@ -342,8 +340,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         if k == 0 {
             return;
         }
-        for (state, row) in self
-            .states_by_id(placement)
+        for (state, row) in states_by_id(&self.current, placement)
             .iter()
             .zip(values.chunks_mut(k))
         {
@@ -357,13 +354,8 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         values: &mut [f64],
         placement: Option<Placement<'_>>,
     ) {
-        match placement {
-            None => self.law.record_metrics(swarm, &self.current, values),
-            Some(_) => {
-                let by_id = self.states_by_id(placement).into_owned();
-                self.law.record_metrics(swarm, &by_id, values);
-            }
-        }
+        let states = states_by_id(&self.current, placement);
+        self.law.record_metrics(swarm, &states, values);
     }
 
     fn centralised_due(&self, time_s: f64) -> bool {
@@ -379,7 +371,8 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         swarm: &SwarmView<'_>,
         placement: Option<Placement<'_>>,
     ) -> BTreeMap<String, serde_json::Value> {
-        self.law.results(swarm, &self.states_by_id(placement))
+        self.law
+            .results(swarm, &states_by_id(&self.current, placement))
     }
 
     fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
@@ -462,14 +455,24 @@ impl Law {
         self.0.as_any().downcast_ref::<L>()
     }
 
-    /// Every satellite's law state after the last update, by storage index (the engine's storage
-    /// order: see [`crate::swarm::Simulation::law_states`] for them by id), if the law is of type `L`
+    /// Every satellite's law state after the last update, by storage index, if the law is of type `L`
     /// (empty before the law is initialised).
+    #[cfg(test)]
     pub(crate) fn states<L: GuidanceLaw>(&self) -> Option<&[L::State]> {
         self.0
             .states_as_any()
             .downcast_ref::<Vec<L::State>>()
             .map(Vec::as_slice)
+    }
+
+    /// Every satellite's law state after the last update, by id (the states being stored in the storage
+    /// order `placement`), if the law is of type `L`.
+    pub(crate) fn states_by_id<L: GuidanceLaw>(
+        &self,
+        placement: Option<Placement<'_>>,
+    ) -> Option<Vec<L::State>> {
+        let states = self.0.states_as_any().downcast_ref::<Vec<L::State>>()?;
+        Some(states_by_id(states, placement).into_owned())
     }
 
     /// Writes every satellite's per-satellite outputs into `values` (satellite-major: satellite i's
@@ -496,8 +499,8 @@ impl Law {
 
     /// Updates every live satellite's state (removed satellites keep theirs), evaluating the satellites
     /// in the sensing grid's cell order (`active`, `context` and the states are by entry in the view's
-    /// slices, the storage order): the same bits as [`Self::update_states_in_id_order`], faster
-    /// on large swarms. Falls back to id order when the grid does not hold every satellite (left empty
+    /// slices, the storage order): the same bits as [`Self::update_states_in_storage_order`], faster
+    /// on large swarms. Falls back to storage order when the grid does not hold every satellite (left empty
     /// by a non-finite navigation position).
     pub(crate) fn update_states(
         &mut self,
@@ -508,9 +511,9 @@ impl Law {
         self.0.update_states(swarm, active, context, true)
     }
 
-    /// [`Self::update_states`] evaluating the satellites in id order (the plain reference path).
+    /// [`Self::update_states`] evaluating the satellites in storage order (the plain reference path).
     #[cfg(test)]
-    pub(crate) fn update_states_in_id_order(
+    pub(crate) fn update_states_in_storage_order(
         &mut self,
         swarm: &SwarmView<'_>,
         active: &[bool],
@@ -653,7 +656,7 @@ mod tests {
                     law.initialise(&swarm, None).unwrap();
                 }
             }
-            reference.update_states_in_id_order(&swarm, &active, &|i| context(i, tick));
+            reference.update_states_in_storage_order(&swarm, &active, &|i| context(i, tick));
             for (threads, law) in [1, 2].into_iter().zip(&mut laws) {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
@@ -702,7 +705,7 @@ mod tests {
         let (mut reference, mut law) = (pigeon(), pigeon());
         reference.initialise(&swarm, None).unwrap();
         law.initialise(&swarm, None).unwrap();
-        reference.update_states_in_id_order(&swarm, &flags, &context);
+        reference.update_states_in_storage_order(&swarm, &flags, &context);
         law.update_states(&swarm, &flags, &context);
         let updated = law.states::<Pigeon>().unwrap();
         assert!(updated
@@ -791,7 +794,7 @@ mod tests {
         let (mut reference, mut fused) = (Law::new(Nested), Law::new(Nested));
         reference.initialise(&swarm, None).unwrap();
         fused.initialise(&swarm, None).unwrap();
-        reference.update_states_in_id_order(&swarm, &active, &|i| {
+        reference.update_states_in_storage_order(&swarm, &active, &|i| {
             tick.update_context(i, Actuator::new(5.0, LimitKind::PerAxis))
         });
         let expected: Vec<Vector3<f64>> = (0..n)

@@ -80,7 +80,7 @@ pub struct SensedObstacle {
 /// };
 /// # let _ = forged;
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy)]
 #[non_exhaustive]
 pub struct Neighbour {
     /// The neighbour's id.
@@ -96,10 +96,31 @@ pub struct Neighbour {
     index: usize,
 }
 
+// By hand, without the storage index: nothing a law can observe depends on the engine's storage order.
+impl PartialEq for Neighbour {
+    fn eq(&self, other: &Self) -> bool {
+        (self.id, self.state, self.offset_m, self.distance_m)
+            == (other.id, other.state, other.offset_m, other.distance_m)
+    }
+}
+
+impl std::fmt::Debug for Neighbour {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Neighbour")
+            .field("id", &self.id)
+            .field("state", &self.state)
+            .field("offset_m", &self.offset_m)
+            .field("distance_m", &self.distance_m)
+            .finish()
+    }
+}
+
 /// The whole swarm as the engine sees it at one right-hand-side evaluation: navigation states relative to
 /// the LVLH origin (Hill frame), who is alive and linked, and the neighbour grid over those positions.
 /// Laws get a [`SatelliteView`] of it, never the whole view, except in the whole-swarm hooks of
-/// [`crate::swarm::GuidanceLaw`] (`initialise`, `centralised_update`, `record_metrics`, `results`).
+/// [`crate::swarm::GuidanceLaw`] (`initialise`, `centralised_update`, `record_metrics`, `results`), whose
+/// views hold satellite `i` at index `i` of every slice. (The engine's own per-tick views are in its
+/// storage order, sorted by grid cell; laws only see those through [`SatelliteView`].)
 #[derive(Clone, Copy)]
 pub struct SwarmView<'a> {
     /// Relative states, Hill frame, one per satellite (navigation solution: truth plus any noise).
@@ -246,7 +267,7 @@ impl<'a> SwarmView<'a> {
 
     /// The view of satellite `own.id` with its own data already at hand (copied from this view by the
     /// engine, so the same values): a law evaluated in the grid's cell order then reads nothing of its
-    /// own satellite by id (scattered in memory on a large swarm).
+    /// own satellite from the view's slices (scattered in memory on a large swarm).
     pub(crate) fn satellite_with(&self, own: OwnSample) -> SatelliteView<'a> {
         SatelliteView {
             id: own.id,
@@ -316,7 +337,7 @@ pub struct SatelliteView<'a> {
     id: usize,
     /// The satellite's entry in the view's slices.
     index: usize,
-    /// The satellite's own data when the engine copied it out (else read from `swarm` by id).
+    /// The satellite's own data when the engine copied it out (else read from `swarm` at `index`).
     own: Option<OwnSample>,
     /// The satellite's neighbours within sensing range, in walk order, when the engine already walked
     /// the grid for it (else walked on every visit).
@@ -400,7 +421,7 @@ impl SatelliteView<'_> {
         };
         if s.grid.is_masked() {
             // The engine's grid hides removed and unlinked satellites itself: no per-neighbour lookup
-            // of the flags (by id, so scattered in memory).
+            // of the flags (by storage index, scattered in memory).
             match &self.own {
                 Some(own) => s.grid.for_each_within_slot(own.slot, reach_m, report),
                 None => s.grid.for_each_within(self.index, reach_m, report),

@@ -111,7 +111,7 @@ impl StageTimings {
 }
 
 /// A swarm simulation: state, satellites, law, environment, events, and the loop that advances them.
-/// Every per-satellite array below is in storage order (`fleet.order`); the law's states are by id.
+/// Every per-satellite array below, the law's states included, is in storage order (`fleet.order`).
 pub struct Simulation {
     config: SimulationConfig,
     state: SwarmState,
@@ -334,6 +334,9 @@ impl Simulation {
     pub fn state(&self) -> SwarmState {
         let mut by_id = self.state.clone();
         let order = &self.fleet.order;
+        if order.placement().is_none() {
+            return by_id;
+        }
         for (to, from) in by_id
             .satellite_components_mut()
             .zip(self.state.satellite_components())
@@ -369,9 +372,7 @@ impl Simulation {
 
     /// Every satellite's inertial state now, by id, ECI (the engine's inertial frame) \[m, m/s\].
     pub fn states_eci(&self) -> Vec<CartesianState> {
-        self.fleet
-            .order
-            .by_id(&snapshots::inertial_states(&self.config, &self.state))
+        snapshots::inertial_states(&self.config, &self.state, &self.fleet.order)
     }
 
     /// The Schweighart–Sedwick model of the reference orbit at t = 0 that laws get
@@ -387,15 +388,7 @@ impl Simulation {
 
     /// Every satellite's state of the running law now, by id, if the law is of type `L`.
     pub fn law_states<L: GuidanceLaw>(&self) -> Option<Vec<L::State>> {
-        let states = self.law.states::<L>()?;
-        Some(match self.fleet.order.placement() {
-            None => states.to_vec(),
-            Some(p) => p
-                .index_of
-                .iter()
-                .map(|&k| states[k as usize].clone())
-                .collect(),
-        })
+        self.law.states_by_id::<L>(self.fleet.order.placement())
     }
 
     /// Every satellite's per-satellite law outputs now (satellite-major, see [`Law::write_outputs`]);

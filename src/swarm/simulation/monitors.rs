@@ -14,7 +14,8 @@ use crate::swarm::storage_order::permute;
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
 pub(super) struct LiveMetrics {
-    ids: Vec<usize>,
+    /// Storage indices of the live satellites, ascending (the separation tracker's ids).
+    indices: Vec<usize>,
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
@@ -36,7 +37,7 @@ impl LiveMetrics {
 
     pub fn new(n: usize) -> Self {
         Self {
-            ids: Vec::with_capacity(n),
+            indices: Vec::with_capacity(n),
             x: Vec::with_capacity(n),
             y: Vec::with_capacity(n),
             z: Vec::with_capacity(n),
@@ -134,20 +135,21 @@ pub(super) fn live_separation(
     radii_m: &[f64],
     live: &mut LiveMetrics,
 ) -> (f64, usize) {
-    live.ids.clear();
-    live.ids.extend((0..relative.len()).filter(|&i| active[i]));
-    let m = live.ids.len();
+    live.indices.clear();
+    live.indices
+        .extend((0..relative.len()).filter(|&i| active[i]));
+    let m = live.indices.len();
     for buffer in [&mut live.x, &mut live.y, &mut live.z, &mut live.radii_m] {
         buffer.resize(m, 0.0);
     }
     // The live satellites' positions and radii, gathered in parallel (each slot on its own).
-    let ids = &live.ids;
+    let indices = &live.indices;
     live.x
         .par_iter_mut()
         .zip(live.y.par_iter_mut())
         .zip(live.z.par_iter_mut())
         .zip(live.radii_m.par_iter_mut())
-        .zip(ids.par_iter())
+        .zip(indices.par_iter())
         .with_min_len(CHUNK)
         .for_each(|((((x, y), z), radius), &i)| {
             let p = relative[i].position_m;
@@ -155,7 +157,7 @@ pub(super) fn live_separation(
         });
     match live
         .tracker
-        .update(&live.ids, &live.x, &live.y, &live.z, &live.radii_m)
+        .update(&live.indices, &live.x, &live.y, &live.z, &live.radii_m)
     {
         Ok(sep) => (sep.min_distance_m, sep.collisions),
         Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),

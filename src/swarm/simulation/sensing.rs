@@ -349,10 +349,10 @@ impl<'a> Plant<'a> {
 
     /// [`Self::commands`] with the satellites evaluated in the sensing grid's storage (cell) order, so
     /// that consecutive evaluations query overlapping neighbourhoods and find their neighbours' data in
-    /// cache (in id order, every neighbour query of a large swarm misses). Each command is computed on
+    /// cache (in a storage order far from the cell order, every neighbour query of a large swarm misses). Each command is computed on
     /// its own from the same inputs, so `applied_hill` holds exactly the bits of [`Self::commands`],
     /// whatever the thread count. `scratch` (same length as `applied_hill`) is overwritten: it receives
-    /// the commands in cell order before they are gathered by satellite. Falls back to id order when the
+    /// the commands in cell order before they are gathered by storage index. Falls back to storage order when the
     /// grid is empty (a non-finite navigation position).
     pub fn commands_in_cell_order(
         &self,
@@ -368,7 +368,7 @@ impl<'a> Plant<'a> {
             self.commands(law, view, tick, applied_hill);
             return;
         }
-        // Each batch first copies out its satellites' own data (loads by id, scattered in memory on a
+        // Each batch first copies out its satellites' own data (loads by storage index, scattered in memory on a
         // large swarm, issued back to back so they overlap), then evaluates the laws on the copies.
         let evaluation = PlantTick {
             plant: self,
@@ -379,13 +379,14 @@ impl<'a> Plant<'a> {
             .par_chunks_mut(CHUNK)
             .zip(order.par_chunks(CHUNK))
             .enumerate()
-            .for_each(|(chunk, (outs, ids))| {
-                for (batch, (outs, ids)) in outs
+            .for_each(|(chunk, (outs, indices))| {
+                for (batch, (outs, indices)) in outs
                     .chunks_mut(OWN_BATCH)
-                    .zip(ids.chunks(OWN_BATCH))
+                    .zip(indices.chunks(OWN_BATCH))
                     .enumerate()
                 {
-                    let own = own_batch(&evaluation, view, ids, chunk * CHUNK + batch * OWN_BATCH);
+                    let first_slot = chunk * CHUNK + batch * OWN_BATCH;
+                    let own = own_batch(&evaluation, view, indices, first_slot);
                     for (out, own) in outs.iter_mut().zip(own) {
                         *out = own.map_or_else(Vector3::zeros, |(own, actuator)| {
                             self.applied(law, &view.satellite_with(own), actuator, tick)

@@ -9,12 +9,15 @@ use crate::swarm::simulation::monitors::live_separation;
 use crate::swarm::simulation::sensing::{FleetById, Plant};
 use crate::swarm::simulation::{SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of, SwarmState};
+use crate::swarm::storage_order::StorageOrder;
 
-/// Every satellite's inertial state (ECI) from the flat state: the state itself for the inertial models,
-/// the Hill state mapped through the reference orbit's frame for the linear and kinematic models.
+/// Every satellite's inertial state (ECI), by id, from the flat state (in the storage order `order`): the
+/// state itself for the inertial models, the Hill state mapped through the reference orbit's frame for
+/// the linear and kinematic models.
 pub(super) fn inertial_states(
     config: &SimulationConfig,
     state: &SwarmState,
+    order: &StorageOrder,
 ) -> Vec<CartesianState> {
     let n = state.n();
     let data = state.as_slice();
@@ -23,8 +26,8 @@ pub(super) fn inertial_states(
         LvlhFrame::from_reference(&CartesianState::new(p, v))
     });
     (0..n)
-        .map(|i| {
-            let (p, v) = satellite_of(data, n, i);
+        .map(|id| {
+            let (p, v) = satellite_of(data, n, order.index_of(id));
             match &reference_frame {
                 None => CartesianState::new(p, v),
                 Some(f) => f.from_hill(&RelativeStateHill {
@@ -42,7 +45,7 @@ impl Simulation {
         // Everything the recorder gets is by id (the engine's arrays are in storage order).
         let n = self.state.n();
         let order = &self.fleet.order;
-        let inertial = order.by_id(&inertial_states(&self.config, &self.state));
+        let inertial = inertial_states(&self.config, &self.state, order);
         let ledgers: Vec<([f64; 3], f64)> = (0..n)
             .map(|id| self.state.ledger(order.index_of(id)))
             .collect();

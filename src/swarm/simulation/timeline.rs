@@ -48,7 +48,6 @@ impl Simulation {
         Ok(())
     }
 
-    /// Mass of the lightest satellite \[kg\] (the one with the fastest closed-loop rate).
     /// Sets the link flag of every satellite `selection` names to `up`.
     fn set_links(&mut self, selection: &Selection, up: bool) {
         let order = &self.fleet.order;
@@ -59,6 +58,7 @@ impl Simulation {
         }
     }
 
+    /// Mass of the lightest satellite \[kg\] (the one with the fastest closed-loop rate).
     fn min_mass_kg(&self) -> f64 {
         self.fleet
             .masses_kg
