@@ -391,8 +391,8 @@ impl Simulation {
         self.law.states_by_id::<L>(self.fleet.order.placement())
     }
 
-    /// Every satellite's per-satellite law outputs now (satellite-major, see [`Law::write_outputs`]);
-    /// the names are `self.law().output_names()`.
+    /// Every satellite's per-satellite law outputs now, by id and satellite-major (satellite i's at
+    /// `i * k .. (i + 1) * k`, k = the number of names); the names are `self.law().output_names()`.
     pub fn law_outputs(&self) -> Vec<f64> {
         let mut values = vec![0.0; self.law.output_names().len() * self.state.n()];
         self.law
