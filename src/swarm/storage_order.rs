@@ -18,6 +18,24 @@ pub(crate) struct Placement<'a> {
     pub index_of: &'a [u32],
 }
 
+impl Placement<'_> {
+    /// `by_index` (one value per storage index) gathered into id order.
+    pub fn by_id<T: Clone>(&self, by_index: &[T]) -> Vec<T> {
+        self.index_of
+            .iter()
+            .map(|&k| by_index[k as usize].clone())
+            .collect()
+    }
+
+    /// `by_id` (one value per satellite id) gathered into storage order.
+    pub fn by_index<T: Clone>(&self, by_id: &[T]) -> Vec<T> {
+        self.id_of
+            .iter()
+            .map(|&id| by_id[id as usize].clone())
+            .collect()
+    }
+}
+
 /// Which satellite id each storage index holds, and back.
 #[derive(Clone, Debug)]
 pub(crate) struct StorageOrder {
@@ -66,11 +84,11 @@ impl StorageOrder {
     }
 
     /// Gathers `by_index` (one value per storage index) into id order.
-    pub fn by_id<T: Copy>(&self, by_index: &[T]) -> Vec<T> {
-        self.index_of
-            .iter()
-            .map(|&k| by_index[k as usize])
-            .collect()
+    pub fn by_id<T: Clone>(&self, by_index: &[T]) -> Vec<T> {
+        match self.placement() {
+            None => by_index.to_vec(),
+            Some(p) => p.by_id(by_index),
+        }
     }
 
     /// Moves to the storage order in which new index `k` holds what old index `moves[k]` held.

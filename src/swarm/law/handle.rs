@@ -153,12 +153,7 @@ struct Stateful<L: GuidanceLaw> {
 fn states_by_id<'s, S: Clone>(states: &'s [S], placement: Option<Placement<'_>>) -> Cow<'s, [S]> {
     match placement {
         None => Cow::Borrowed(states),
-        Some(p) => Cow::Owned(
-            p.index_of
-                .iter()
-                .map(|&k| states[k as usize].clone())
-                .collect(),
-        ),
+        Some(p) => Cow::Owned(p.by_id(states)),
     }
 }
 
@@ -201,11 +196,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         let result = self.law.initialise(swarm, &mut by_id);
         self.current = match placement {
             None => by_id,
-            Some(p) => p
-                .id_of
-                .iter()
-                .map(|&id| by_id[id as usize].clone())
-                .collect(),
+            Some(p) => p.by_index(&by_id),
         };
         self.next = self.current.clone();
         result
@@ -376,10 +367,8 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     }
 
     fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
-        if self.current.len() == moves.len() {
-            permute(&mut self.current, moves, visited);
-            permute(&mut self.next, moves, visited);
-        }
+        permute(&mut self.current, moves, visited);
+        permute(&mut self.next, moves, visited);
     }
 
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {

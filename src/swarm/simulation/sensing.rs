@@ -234,7 +234,6 @@ impl<'a> Plant<'a> {
         if order.placement().is_none() {
             return self.view(time_s, truth, None, sensed);
         }
-        let n = truth.len();
         sensed
             .navigation
             .par_iter_mut()
@@ -242,13 +241,9 @@ impl<'a> Plant<'a> {
             .enumerate()
             .for_each(|(id, nav)| *nav = truth[order.index_of(id)]);
         let fleet = self.fleet;
-        by_id.masses_kg = (0..n)
-            .map(|id| fleet.masses_kg[order.index_of(id)])
-            .collect();
-        by_id.active = (0..n).map(|id| fleet.active[order.index_of(id)]).collect();
-        by_id.links_up = (0..n)
-            .map(|id| fleet.links_up[order.index_of(id)])
-            .collect();
+        by_id.masses_kg = order.by_id(&fleet.masses_kg);
+        by_id.active = order.by_id(&fleet.active);
+        by_id.links_up = order.by_id(&fleet.links_up);
         self.view_of_navigation(
             time_s,
             sensed,
