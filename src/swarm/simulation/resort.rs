@@ -110,7 +110,9 @@ mod tests {
     }
 
     /// Runs `text` to `until_s` re-sorting every `period` ticks (0: never): what the recorder got, the
-    /// final state, law outputs, results and totals, and whether the storage order ended up shuffled.
+    /// final state, law outputs, results, totals and what the public accessors give by id (Hill and ECI
+    /// states, flags, the law's states when it is the pigeon law), and whether the storage order ended
+    /// up shuffled.
     fn run(text: &str, until_s: f64, period: u64) -> (Capture, String, bool) {
         let scenario = Scenario::from_toml(text, "t", Path::new(".")).unwrap();
         let mut sim = build_simulation(&scenario).unwrap();
@@ -122,11 +124,15 @@ mod tests {
         let outputs: Vec<u64> = sim.law_outputs().iter().map(|v| v.to_bits()).collect();
         let results = sim.law_results();
         let summary = format!(
-            "{state:?} {outputs:?} {results:?} {:?} {:?}",
+            "{state:?} {outputs:?} {results:?} {:?} {:?} {:?} {:?} {:?} {:?}",
             sim.totals(),
             (0..sim.satellite_count())
                 .map(|i| sim.approach_monitor().satellite_threat_minimum(i))
-                .collect::<Vec<_>>()
+                .collect::<Vec<_>>(),
+            sim.states_hill(),
+            sim.states_eci(),
+            sim.active(),
+            sim.law_states::<crate::guidance::pigeon::Pigeon>(),
         );
         (capture, summary, shuffled)
     }
@@ -168,6 +174,7 @@ mod tests {
                            k_v_kg_per_s = 2000.0\navoidance_radius_m = 60.0\na = 1.0\nb = 1.0\n\
                            radius_m = 300.0\nmu_m = -5000.0";
         let cases = [
+            sphere(pigeon, "", "rk4", "j2"),
             sphere(pigeon, "", "rk4", "j2")
                 + &format!("[[events]]\ntime_s = 3.0\naction = \"switch-law\"\n[events.law]\n{bifurcating}\n"),
             sphere(
@@ -190,7 +197,7 @@ mod tests {
                 .replace("range_m = 1000.0", "range_m = 10.5"),
         ];
         for (k, text) in cases.iter().enumerate() {
-            let until_s = [6.0, 6.0, 6.0, 3700.0, 3700.0, 1600.0][k];
+            let until_s = [6.0, 6.0, 6.0, 6.0, 3700.0, 3700.0, 1600.0][k];
             let (never, never_summary, never_shuffled) = run(text, until_s, 0);
             let (every, every_summary, every_shuffled) = run(text, until_s, 1);
             assert!(!never_shuffled);
