@@ -1,7 +1,8 @@
 //! # satflock
 //!
-//! Simulate and steer satellite swarms and clusters in Earth orbit under J2, each satellite running a
-//! distributed guidance law.
+//! Simulate and steer satellite swarms and clusters in Earth orbit under J2 (and, when asked, zonal
+//! harmonics, drag, solar radiation pressure, Sun and Moon), each satellite running a distributed
+//! guidance law.
 //!
 //! Start with [`prelude`]: `use satflock::prelude::*;` brings the scenario loader, the engine, the law
 //! interface and the physics types a user needs.
@@ -11,6 +12,7 @@
 //! | layer | module | holds |
 //! | --- | --- | --- |
 //! | physics | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
+//! | physics | [`dynamics`] | force models behind one trait: gravity (point mass, J2, zonal), drag and atmospheres, SRP, Sun and Moon; the force set of a run |
 //! | physics | [`integrate`] | RK4, adaptive RKF7(8) and DOP853 over state vectors of any length; a run-time [`integrate::Stepper`] |
 //! | physics | [`relative`] | Hill-Clohessy-Wiltshire, J2-linearised (Schweighart-Sedwick) and averaged-J2 relative motion |
 //! | support | [`random`] | every random draw of a run: one stream per (seed, purpose, satellite, tick) |
@@ -23,13 +25,16 @@
 //! | input | [`scenario`] | TOML scenario files: schema, validation, built-in scenarios, initial distributions |
 //! | output | [`output`] | streamed CSV recorder, JSON run summary, run-directory reader, CCSDS OEM and CZML exports |
 //! | front | [`propagate`], [`run`] | single-orbit propagation; a scenario end to end |
+//! | front | [`budget`] | the perturbation budget of a satellite pair: each force's absolute and differential acceleration and the along-track drift it causes |
 //! | front | [`campaign`] | many runs of a scenario over seeds and parameters, in a bounded pool of whole runs; manifest, Parquet table, statistics |
 //!
 //! Units are SI everywhere inside (m, s, kg, rad). Every vector's frame is in its type or its name.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod budget;
 pub mod campaign;
+pub mod dynamics;
 pub mod environment;
 pub mod grid;
 pub mod guidance;

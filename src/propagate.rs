@@ -2,19 +2,24 @@
 //! and the frames the states are given out in ([`OutputFrame`]): the library side of `satflock
 //! propagate` and of the Python package's `satflock.propagate`.
 
+use std::sync::Arc;
+
 use thiserror::Error;
 
+use crate::dynamics::{ForceSet, PhysicalProperties};
 use crate::integrate::{IntegrateError, IntegratorMethod, Stepper, Tolerances};
 
-use crate::orbit::{hill_to_gao, CartesianState, EarthModel, GravityModel, LvlhFrame};
+use crate::orbit::{hill_to_gao, CartesianState, EarthModel, LvlhFrame};
 
 /// How to propagate.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct PropagationSettings {
-    /// Earth constants.
+    /// Earth constants (those the force set was built with).
     pub earth: EarthModel,
-    /// Gravity model.
-    pub gravity: GravityModel,
+    /// The forces, the same set the engine uses for inertial truth (its epoch is `t = 0`).
+    pub forces: Arc<ForceSet>,
+    /// The physical properties of every propagated orbit (read by drag and SRP).
+    pub properties: PhysicalProperties,
     /// Integrator.
     pub integrator: IntegratorMethod,
     /// RK4 step, or longest step of the adaptive method \[s\].
@@ -57,6 +62,23 @@ pub enum PropagateError {
     /// The integrator failed.
     #[error(transparent)]
     Integration(#[from] IntegrateError),
+    /// An orbit's density altitude fell below the atmosphere model's floor (re-entry).
+    #[error(
+        "orbit {index} at t = {time_s} s: density altitude {:.3} km is below the atmosphere \
+         model's floor of {:.1} km (re-entry: drag no longer applies)",
+        altitude_m / 1e3,
+        floor_m / 1e3
+    )]
+    BelowAtmosphere {
+        /// Which orbit (0 the first).
+        index: usize,
+        /// Time of detection, at an output time \[s\].
+        time_s: f64,
+        /// Its density altitude \[m\].
+        altitude_m: f64,
+        /// The atmosphere's floor \[m\].
+        floor_m: f64,
+    },
 }
 
 /// Lowest perigee altitude accepted \[m\]: below about 100 km the atmosphere, which is not modelled,
@@ -84,6 +106,14 @@ impl PropagationSettings {
             }
         };
         positive("duration_s", self.duration_s)?;
+        if self.forces.earth() != self.earth {
+            return Err(PropagateError::InvalidSetting {
+                setting: "mu_m3_s2",
+                value: self.forces.earth().mu_m3_s2,
+                allowed: "the force set's Earth constants equal to the settings' earth",
+            });
+        }
+        positive("mass_kg", self.properties.mass_kg)?;
         positive("mu_m3_s2", self.earth.mu_m3_s2)?;
         positive("earth_radius_m", self.earth.equatorial_radius_m)?;
         if !(self.earth.j2.is_finite() && self.earth.j2 >= 0.0) {
@@ -190,7 +220,7 @@ impl OutputFrame {
     }
 }
 
-/// Propagates `initial` orbits together under the same gravity and calls `visit(t, states)` at t = 0 and
+/// Propagates `initial` orbits together under the same force set and calls `visit(t, states)` at t = 0 and
 /// at every multiple of the output step up to the duration (the last output lands on the duration when it
 /// is not a multiple). The integrator lands exactly on every output time.
 pub fn propagate(
@@ -204,12 +234,14 @@ pub fn propagate(
         .iter()
         .flat_map(|s| s.position_m.iter().chain(s.velocity_mps.iter()).copied())
         .collect();
-    let earth = settings.earth;
-    let gravity = settings.gravity;
-    let rhs = move |_t: f64, y: &[f64], dy: &mut [f64]| {
+    let forces = &settings.forces;
+    let properties = settings.properties;
+    let rhs = move |t: f64, y: &[f64], dy: &mut [f64]| {
+        let at = forces.instant(t);
         for (state, d) in y.chunks_exact(6).zip(dy.chunks_exact_mut(6)) {
             let r = nalgebra::Vector3::new(state[0], state[1], state[2]);
-            let a = gravity.acceleration_m_s2(&earth, &r);
+            let v = nalgebra::Vector3::new(state[3], state[4], state[5]);
+            let a = forces.acceleration_eci_m_s2(&at, &r, &v, &properties);
             d[0..3].copy_from_slice(&state[3..6]);
             d[3..6].copy_from_slice(a.as_slice());
         }
@@ -246,6 +278,16 @@ pub fn propagate(
         stepper.advance(&rhs, t, next, &mut y, settings.step_s)?;
         t = next;
         unpack(&y, &mut states);
+        for (index, s) in states.iter().enumerate() {
+            if let Some((altitude_m, floor_m)) = forces.below_floor(&s.position_m) {
+                return Err(PropagateError::BelowAtmosphere {
+                    index,
+                    time_s: t,
+                    altitude_m,
+                    floor_m,
+                });
+            }
+        }
         visit(t, &states);
         k += 1;
     }

@@ -10,7 +10,7 @@ use std::time::Instant;
 use thiserror::Error;
 
 use crate::output::oem::{self, OemLayout};
-use crate::output::summary::{EnvironmentSummary, FinalState, Frames};
+use crate::output::summary::{DynamicsSummary, EnvironmentSummary, FinalState, Frames};
 use crate::output::{czml, frames, ExportError, RunData};
 use crate::output::{
     DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
@@ -393,6 +393,10 @@ pub fn run_prepared(
         satellite_steps_per_s: totals.satellite_steps as f64 / wall_time_s.max(1e-9),
         threads: rayon::current_num_threads(),
         timing: simulation.stage_timings(),
+        dynamics: DynamicsSummary {
+            model: simulation.config().dynamics.name().to_owned(),
+            forces: simulation.config().dynamics.forces().map(|f| f.summary()),
+        },
         delta_v_mps: DeltaVSummary {
             per_satellite: ledger.iter().map(|l| l.1).collect(),
             max: live.iter().map(|&i| ledger[i].1).fold(0.0, f64::max),

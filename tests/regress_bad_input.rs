@@ -523,7 +523,11 @@ fn regress_propagate_refuses_nonsense_orbits_and_settings() {
     let earth = EarthModel::WGS84_EGM96;
     let settings = PropagationSettings {
         earth,
-        gravity: GravityModel::J2,
+        forces: std::sync::Arc::new(satflock::dynamics::ForceSet::gravity(
+            GravityModel::J2,
+            earth,
+        )),
+        properties: satflock::dynamics::PhysicalProperties::point_mass(1.0),
         integrator: IntegratorMethod::Rk4,
         step_s: 10.0,
         tolerances: Tolerances {
@@ -553,7 +557,7 @@ fn regress_propagate_refuses_nonsense_orbits_and_settings() {
     ));
     let good = circular(earth.equatorial_radius_m + 600e3);
     settings.check_orbit(0, &good).unwrap();
-    let mut bad_rtol = settings;
+    let mut bad_rtol = settings.clone();
     bad_rtol.tolerances.relative = 10.0;
     assert!(matches!(
         propagate(&[good], &bad_rtol, |_, _| {}),
@@ -562,7 +566,7 @@ fn regress_propagate_refuses_nonsense_orbits_and_settings() {
             ..
         })
     ));
-    let mut tiny_output = settings;
+    let mut tiny_output = settings.clone();
     tiny_output.duration_s = 86_400.0;
     tiny_output.output_step_s = 1e-6;
     assert!(matches!(

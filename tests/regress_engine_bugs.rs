@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 
 use nalgebra::Vector3;
+use satflock::dynamics::PhysicalProperties;
 use satflock::environment::Obstacle;
 use satflock::guidance::free_drift::FreeDrift;
 use satflock::integrate::{IntegratorMethod, Tolerances};
@@ -59,6 +60,7 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
         control,
         origin: Origin::VirtualReference,
         reference: elements.to_cartesian(earth.mu_m3_s2).unwrap(),
+        reference_properties: PhysicalProperties::point_mass(10.0),
         mean_motion_rad_s: n(),
         duration_s,
         record_interval_s: duration_s,
@@ -87,7 +89,7 @@ fn satellites(states: &[RelativeStateHill]) -> Vec<SatelliteInit> {
         .iter()
         .map(|s| SatelliteInit {
             relative_state: *s,
-            mass_kg: 10.0,
+            properties: PhysicalProperties::point_mass(10.0),
             radius_m: 0.1,
             actuator: Actuator::new(f64::INFINITY, LimitKind::Norm),
         })

@@ -5,6 +5,7 @@
 //! engine's refusal of a step too long for k_v/m.
 
 use nalgebra::Vector3;
+use satflock::dynamics::PhysicalProperties;
 use satflock::guidance::bifurcating::{
     Bifurcating, BifurcatingParameters, Dimension, TargetSet, REGULARISATION_M,
 };
@@ -316,6 +317,7 @@ fn config(step_s: f64, control: ControlTiming, range_m: f64) -> SimulationConfig
         }
         .to_cartesian(earth.mu_m3_s2)
         .unwrap(),
+        reference_properties: PhysicalProperties::point_mass(100.0),
         mean_motion_rad_s: earth.mean_motion_rad_s(a),
         duration_s: 1.0,
         record_interval_s: 1.0,
@@ -340,7 +342,7 @@ fn sats(positions_hill_m: &[[f64; 3]], velocity: [f64; 3]) -> Vec<SatelliteInit>
                 position_m: Vector3::from(*p),
                 velocity_mps: Vector3::from(velocity),
             },
-            mass_kg: 100.0,
+            properties: PhysicalProperties::point_mass(100.0),
             radius_m: 0.0,
             actuator: Actuator::new(f64::INFINITY, LimitKind::Norm),
         })

@@ -4,6 +4,7 @@
 //! sampled control, determinism across thread counts, events and divergence reporting.
 
 use nalgebra::Vector3;
+use satflock::dynamics::PhysicalProperties;
 use satflock::guidance::hold::{Feedforward, Hold, HoldParameters};
 use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements, RelativeStateHill};
@@ -38,6 +39,7 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
         control,
         origin: Origin::VirtualReference,
         reference: elements.to_cartesian(earth.mu_m3_s2).unwrap(),
+        reference_properties: PhysicalProperties::point_mass(10.0),
         mean_motion_rad_s: earth.mean_motion_rad_s(A_M),
         duration_s,
         record_interval_s: duration_s,
@@ -63,7 +65,7 @@ fn satellites(states: &[RelativeStateHill]) -> Vec<SatelliteInit> {
         .iter()
         .map(|s| SatelliteInit {
             relative_state: *s,
-            mass_kg: 10.0,
+            properties: PhysicalProperties::point_mass(10.0),
             radius_m: 0.1,
             actuator: Actuator::new(f64::INFINITY, LimitKind::Norm),
         })
@@ -286,13 +288,13 @@ fn val_free_drift_hcw_ellipse_bounded_on_hcw_drifts_on_j2_models() {
     //    Bound 10 % on both: first-order theory neglects the velocity-dependent short-period terms and
     //    O(J2²); the fit over 5 orbits leaves ~1e-6 m/s of oscillation leakage.
     let truth_0 = free_drift_rate(
-        DynamicsModel::Inertial(GravityModel::J2),
+        DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
         initial,
         0.0,
         omega,
     );
     let truth_90 = free_drift_rate(
-        DynamicsModel::Inertial(GravityModel::J2),
+        DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
         initial,
         90.0,
         omega,
@@ -326,7 +328,7 @@ fn val_free_drift_through_the_engine_matches_hcw_within_the_linearisation_error(
         n(),
     );
     let mut cfg = config(
-        DynamicsModel::Inertial(GravityModel::TwoBody),
+        DynamicsModel::inertial(GravityModel::TwoBody, EarthModel::default()),
         ControlTiming::Continuous,
         period,
     );
@@ -406,7 +408,11 @@ fn val_continuous_and_sampled_control_agree_for_a_short_period() {
         ControlTiming::Continuous,
         ControlTiming::Sampled { period_s: 0.5 },
     ] {
-        let mut cfg = config(DynamicsModel::Inertial(GravityModel::J2), control, 600.0);
+        let mut cfg = config(
+            DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
+            control,
+            600.0,
+        );
         cfg.step_s = 0.5;
         let mut sim = Simulation::new(cfg, &satellites(&initial), hold(kp, kd), vec![]).unwrap();
         finals.push(run(&mut sim).states.last().unwrap().clone());
@@ -473,7 +479,7 @@ fn val_same_seed_same_result_on_any_thread_count() {
             .build()
             .unwrap();
         let mut cfg = config(
-            DynamicsModel::Inertial(GravityModel::J2),
+            DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
             ControlTiming::Sampled { period_s: 1.0 },
             60.0,
         );

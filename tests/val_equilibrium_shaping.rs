@@ -20,6 +20,7 @@
 //! All in the Hill frame (x radial out, y along-track, z orbit normal), SI units.
 
 use nalgebra::{DMatrix, Matrix2, Matrix3, Vector2, Vector3};
+use satflock::dynamics::PhysicalProperties;
 use satflock::environment::Threat;
 use satflock::grid::NeighbourGrid;
 use satflock::guidance::equilibrium_shaping::shaping::{
@@ -431,6 +432,7 @@ fn config(
         control: ControlTiming::Continuous,
         origin: Origin::VirtualReference,
         reference: elements.to_cartesian(earth.mu_m3_s2).unwrap(),
+        reference_properties: PhysicalProperties::point_mass(10.0),
         mean_motion_rad_s: n(),
         duration_s,
         record_interval_s,
@@ -452,7 +454,7 @@ fn satellites(states: &[RelativeStateHill], actuator: Actuator) -> Vec<Satellite
         .iter()
         .map(|s| SatelliteInit {
             relative_state: *s,
-            mass_kg: 7.0,
+            properties: PhysicalProperties::point_mass(7.0),
             radius_m: 0.1,
             actuator,
         })
@@ -727,7 +729,7 @@ fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
     let sats = satellites(&at_rest(&nodes), Actuator::new(1.4e-3, LimitKind::PerAxis));
     let hcw = DynamicsModel::Hcw(Hcw::new(n()));
     let err = Simulation::new(
-        config(hcw, 0.1, 10.0, 10.0, vec![]),
+        config(hcw.clone(), 0.1, 10.0, 10.0, vec![]),
         &sats,
         Law::new(law.clone()),
         vec![],
@@ -751,7 +753,7 @@ fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
         message.contains("0.1 s") && message.contains(&format!("{rate:.4}")),
         "{message}"
     );
-    let mut cfg = config(hcw, 0.01, 10.0, 10.0, vec![]);
+    let mut cfg = config(hcw.clone(), 0.01, 10.0, 10.0, vec![]);
     cfg.control = ControlTiming::Sampled { period_s: 0.5 };
     assert!(matches!(
         Simulation::new(cfg, &sats, Law::new(law.clone()), vec![]),
@@ -759,7 +761,7 @@ fn val_engine_refuses_a_step_or_period_too_long_for_the_field() {
     ));
     // Within the bound: accepted.
     assert!(Simulation::new(
-        config(hcw, 0.02, 10.0, 10.0, vec![]),
+        config(hcw.clone(), 0.02, 10.0, 10.0, vec![]),
         &sats,
         Law::new(law),
         vec![]
@@ -1159,7 +1161,7 @@ fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
             velocity_mps: s.velocity_mps,
         })
         .collect();
-    let cfg = config(hcw, 0.005, 60.0, 5.0, vec![]);
+    let cfg = config(hcw.clone(), 0.005, 60.0, 5.0, vec![]);
     let mut sim = Simulation::new(
         cfg,
         &satellites(&start, free),
@@ -1180,7 +1182,7 @@ fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
     let law = EquilibriumShaping::new(p).unwrap();
     let nodes = law.tables().nodes_m.clone();
     let threat = threat_from_plus_z(nodes[0] + Vector3::new(3.0, 15.0, 0.0), 0.5, 30.0);
-    let cfg = config(hcw, 0.005, 60.0, 5.0, vec![threat.clone()]);
+    let cfg = config(hcw.clone(), 0.005, 60.0, 5.0, vec![threat.clone()]);
     let events = vec![Event {
         time_s: 0.0,
         action: EventAction::ThreatWarning {
@@ -1246,7 +1248,7 @@ fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
         },
     ];
     let threat = threat_from_plus_z(Vector3::new(0.0, 500.0, 0.0), 1.0, 1e4);
-    let cfg = config(hcw, 0.005, 60.0, 5.0, vec![threat.clone()]);
+    let cfg = config(hcw.clone(), 0.005, 60.0, 5.0, vec![threat.clone()]);
     let events = vec![Event {
         time_s: 0.0,
         action: EventAction::ThreatWarning {

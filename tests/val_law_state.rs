@@ -6,6 +6,7 @@
 //! exact HCW input matrix, and `advance_to` against one uninterrupted `run`.
 
 use nalgebra::{Matrix3, Vector3};
+use satflock::dynamics::PhysicalProperties;
 use satflock::environment::{Obstacle, Threat};
 use satflock::guidance::free_drift::FreeDrift;
 use satflock::integrate::{IntegratorMethod, Tolerances};
@@ -47,6 +48,7 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
         control,
         origin: Origin::VirtualReference,
         reference: elements.to_cartesian(earth.mu_m3_s2).unwrap(),
+        reference_properties: PhysicalProperties::point_mass(10.0),
         mean_motion_rad_s: n(),
         duration_s,
         record_interval_s: duration_s,
@@ -75,7 +77,7 @@ fn satellites(states: &[RelativeStateHill]) -> Vec<SatelliteInit> {
         .iter()
         .map(|s| SatelliteInit {
             relative_state: *s,
-            mass_kg: 10.0,
+            properties: PhysicalProperties::point_mass(10.0),
             radius_m: 0.1,
             actuator: Actuator::new(f64::INFINITY, LimitKind::Norm),
         })
@@ -373,7 +375,7 @@ fn val_stateful_law_is_bitwise_identical_on_1_2_and_4_threads() {
                 .unwrap();
             let dynamics = match control {
                 ControlTiming::Continuous => DynamicsModel::Hcw(Hcw::new(n())),
-                _ => DynamicsModel::Inertial(GravityModel::J2),
+                _ => DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
             };
             let mut cfg = config(dynamics, control, 60.0);
             cfg.record_interval_s = 20.0;
@@ -904,7 +906,7 @@ fn val_command_kind_mismatch_is_a_setup_error() {
             CommandKind::Velocity,
         ),
         (
-            DynamicsModel::Inertial(GravityModel::J2),
+            DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
             field,
             CommandKind::Velocity,
         ),
@@ -916,7 +918,7 @@ fn val_command_kind_mismatch_is_a_setup_error() {
         ] {
             let law = make();
             let name = law.name();
-            let cfg = config(dynamics, control, 10.0);
+            let cfg = config(dynamics.clone(), control, 10.0);
             match Simulation::new(cfg, &sats, law, vec![]) {
                 Err(e @ SimError::CommandKindMismatch { .. }) => {
                     assert!(e.is_setup());
@@ -1059,7 +1061,11 @@ fn val_advance_to_each_recording_time_equals_one_run() {
         ControlTiming::Continuous,
     ] {
         let make = || {
-            let mut cfg = config(DynamicsModel::Inertial(GravityModel::J2), control, 80.0);
+            let mut cfg = config(
+                DynamicsModel::inertial(GravityModel::J2, EarthModel::default()),
+                control,
+                80.0,
+            );
             cfg.record_interval_s = 10.0;
             cfg.sensing.range_m = 25.0;
             cfg.sensing.position_noise_m = 0.2;

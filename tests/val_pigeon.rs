@@ -18,6 +18,7 @@
 //! Hill frame (x radial out, y along-track, z orbit normal), SI units.
 
 use nalgebra::{Vector2, Vector3};
+use satflock::dynamics::PhysicalProperties;
 use satflock::environment::Obstacle;
 use satflock::grid::NeighbourGrid;
 use satflock::guidance::pigeon::potentials::{target_potential_m3, target_slope_m2};
@@ -111,6 +112,7 @@ fn config(
         control: ControlTiming::Sampled { period_s },
         origin: Origin::VirtualReference,
         reference: elements.to_cartesian(earth.mu_m3_s2).unwrap(),
+        reference_properties: PhysicalProperties::point_mass(10.0),
         mean_motion_rad_s: n(),
         duration_s,
         record_interval_s,
@@ -132,7 +134,7 @@ fn satellites() -> Vec<SatelliteInit> {
         .into_iter()
         .map(|s| SatelliteInit {
             relative_state: s,
-            mass_kg: 10.0,
+            properties: PhysicalProperties::point_mass(10.0),
             radius_m: 0.5,
             actuator: Actuator::new(LIMIT_M_S2, LimitKind::PerAxis),
         })

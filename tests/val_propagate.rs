@@ -16,7 +16,11 @@ fn settings(
 ) -> PropagationSettings {
     PropagationSettings {
         earth: EarthModel::WGS84_EGM96,
-        gravity: GravityModel::J2,
+        forces: std::sync::Arc::new(satflock::dynamics::ForceSet::gravity(
+            GravityModel::J2,
+            EarthModel::WGS84_EGM96,
+        )),
+        properties: satflock::dynamics::PhysicalProperties::point_mass(1.0),
         integrator,
         step_s,
         tolerances: Tolerances {
@@ -184,7 +188,10 @@ fn val_two_body_kepler_period_and_conservation() {
     let initial = leo(7_000e3, 0.1, 45.0);
     let period = EarthModel::WGS84_EGM96.period_s(7_000e3);
     let mut s = settings(IntegratorMethod::Rk78, 600.0, 10.0 * period, period);
-    s.gravity = GravityModel::TwoBody;
+    s.forces = std::sync::Arc::new(satflock::dynamics::ForceSet::gravity(
+        GravityModel::TwoBody,
+        EarthModel::WGS84_EGM96,
+    ));
     let mut return_after_one_period = None;
     let e0 = initial.specific_energy_j_kg(mu);
     let h0 = initial.specific_angular_momentum_m2_s();

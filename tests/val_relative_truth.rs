@@ -34,7 +34,11 @@ fn val_two_body_truth_matches_hcw_for_100_m_separation_over_one_orbit() {
     let period = earth.period_s(a);
     let settings = PropagationSettings {
         earth,
-        gravity: GravityModel::TwoBody,
+        forces: std::sync::Arc::new(satflock::dynamics::ForceSet::gravity(
+            GravityModel::TwoBody,
+            earth,
+        )),
+        properties: satflock::dynamics::PhysicalProperties::point_mass(1.0),
         integrator: IntegratorMethod::Rk78,
         step_s: 300.0,
         tolerances: Tolerances {

@@ -15,9 +15,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
 mod bench;
+mod budget;
 mod campaign;
 mod characterize;
 
+use satflock::dynamics::{ForceSet, ForcesConfig, PhysicalProperties};
 use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{CartesianState, EarthModel, GravityModel, KeplerianElements, Vector3};
 use satflock::output::export::write_whole;
@@ -162,6 +164,12 @@ enum Command {
     /// Propagate one orbit (no control) and write its states to CSV (and, with --oem, a CCSDS OEM).
     #[command(allow_negative_numbers = true)]
     Propagate(PropagateArgs),
+    /// Print the perturbation budget of a satellite pair on a circular orbit: for J2..J6, drag, SRP,
+    /// the Sun, the Moon and the HCW linearisation error, the acceleration on satellite 1, the
+    /// differential acceleration and the along-track drift it causes per orbit and per day (orders of
+    /// magnitude for deciding what to neglect; see docs/dynamics.md).
+    #[command(allow_negative_numbers = true)]
+    Budget(budget::BudgetArgs),
     /// Export a run directory's trajectory: `oem` (CCSDS OEM 2.0) or `czml` (CesiumJS).
     Export {
         #[command(subcommand)]
@@ -251,9 +259,14 @@ struct PropagateArgs {
     /// Output spacing [s]: rows at exact multiples from t = 0.
     #[arg(long)]
     output_step_s: f64,
-    /// Gravity model.
-    #[arg(long, value_enum, default_value = "j2")]
-    gravity: GravityArg,
+    /// Gravity model (default j2), when no --forces file gives the force set.
+    #[arg(long, value_enum, conflicts_with = "forces")]
+    gravity: Option<GravityArg>,
+    /// A force file (TOML: [gravity], [drag], [srp], [third_body] and the satellite's [satellite]
+    /// properties, as a scenario's [dynamics.forces]; see docs/dynamics.md). The epoch of t = 0 is
+    /// --epoch-utc.
+    #[arg(long)]
+    forces: Option<PathBuf>,
     /// Integrator.
     #[arg(long, value_enum, default_value = "rk78")]
     integrator: IntegratorArg,
@@ -292,7 +305,8 @@ struct PropagateArgs {
     /// --epoch-utc); needs --frame inertial.
     #[arg(long)]
     oem: Option<PathBuf>,
-    /// The instant of t = 0 (ISO 8601 UTC), for the OEM's epochs.
+    /// The instant of t = 0 (ISO 8601 UTC): the OEM's epochs and the force models' time (Sun, Moon,
+    /// the atmosphere's diurnal bulge).
     #[arg(long, default_value = satflock::time::DEFAULT_EPOCH_UTC)]
     epoch_utc: String,
 }
@@ -430,6 +444,7 @@ fn main() -> ExitCode {
         },
         Command::Characterize { positions, time_s } => characterize::run(&positions, time_s),
         Command::Propagate(args) => propagate_command(&args),
+        Command::Budget(args) => budget::budget_command(&args),
         Command::Export { format } => export::export_command(format),
         Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
         Command::Campaign(args) => campaign::campaign_command(&args),
@@ -828,12 +843,30 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             "a reference orbit is used only with --frame lvlh-hill or lvlh-gao",
         ));
     }
+    let (forces, properties) = match &args.forces {
+        Some(path) => {
+            let config = ForcesConfig::from_file(path).map_err(|e| usage(e.to_string()))?;
+            let invalid =
+                |e: satflock::dynamics::ForceConfigError| usage(format!("{}: {e}", path.display()));
+            let forces = ForceSet::from_config(&config, &earth, epoch).map_err(invalid)?;
+            (forces, config.satellite_properties().map_err(invalid)?)
+        }
+        None => (
+            ForceSet::gravity(
+                match args.gravity.unwrap_or(GravityArg::J2) {
+                    GravityArg::TwoBody => GravityModel::TwoBody,
+                    GravityArg::J2 => GravityModel::J2,
+                },
+                earth,
+            ),
+            PhysicalProperties::point_mass(1.0),
+        ),
+    };
+    let forces_named = forces.summary().models.join(" + ");
     let settings = PropagationSettings {
         earth,
-        gravity: match args.gravity {
-            GravityArg::TwoBody => GravityModel::TwoBody,
-            GravityArg::J2 => GravityModel::J2,
-        },
+        forces: std::sync::Arc::new(forces),
+        properties,
         integrator: match args.integrator {
             IntegratorArg::Rk4 => IntegratorMethod::Rk4,
             IntegratorArg::Rk78 => IntegratorMethod::Rk78,
@@ -900,10 +933,10 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
             creation_date,
             epoch,
             header_comments: vec![format!(
-                "Written by satflock {} propagate: one orbit, --gravity {}, --integrator {}, \
+                "Written by satflock {} propagate: one orbit, forces {}, --integrator {}, \
                  mu = {} m^3/s^2, Re = {} m, J2 = {}.",
                 env!("CARGO_PKG_VERSION"),
-                arg_name(args.gravity),
+                forces_named,
                 arg_name(args.integrator),
                 earth.mu_m3_s2,
                 earth.equatorial_radius_m,

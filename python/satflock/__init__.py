@@ -11,6 +11,7 @@ from ._native import (
     ScenarioError,
     SimulationError,
     __version__,
+    budget,
     characterize,
     propagate,
 )
@@ -27,6 +28,7 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "__version__",
+    "budget",
     "campaign",
     "characterize",
     "propagate",

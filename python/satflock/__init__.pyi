@@ -31,6 +31,7 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "__version__",
+    "budget",
     "campaign",
     "characterize",
     "propagate",
@@ -342,6 +343,8 @@ def propagate(
     mu_m3_s2: Optional[float] = None,
     earth_radius_m: Optional[float] = None,
     j2: Optional[float] = None,
+    forces: Optional[Mapping[str, Any]] = None,
+    epoch_utc: str = "2000-01-01T12:00:00Z",
 ) -> tuple[_FloatArray, _FloatArray]:
     """Propagates free orbits (no control), as `satflock propagate` does: each row alone (with the
     reference, for the LVLH frames), rows in parallel.
@@ -365,13 +368,79 @@ def propagate(
         mu_m3_s2: gravitational parameter [m^3/s^2]; None: WGS 84.
         earth_radius_m: equatorial radius [m]; None: WGS 84.
         j2: J2 coefficient; None: EGM96.
+        forces: the force set as a dict shaped like a scenario's `[dynamics.forces]` table (or a
+            `satflock propagate --forces` file): `gravity`, `drag`, `srp`, `third_body`, and the
+            satellite's `satellite` properties (`mass_kg`, `drag_area_m2`, ...), e.g.
+            `{"drag": {"atmosphere": "harris-priester"}, "satellite": {"mass_kg": 4.0,
+            "drag_area_m2": 0.03}}`. None: `gravity` alone. Every row has the same properties.
+        epoch_utc: the instant of t = 0 (ISO 8601 UTC), read by the Sun, the Moon and the
+            atmosphere's diurnal bulge.
 
     Returns:
         `(t_s, states)`: t_s shape (R,) [s]; states shape (R, N, 6) (or (R, 6) for a (6,) input) in `frame`.
 
     Raises:
         ValueError: a wrong shape or a value out of range, naming the argument (and the row).
-        SimulationError: the integrator failed.
+        SimulationError: the integrator failed, or an orbit fell below the atmosphere's floor.
+    """
+
+def budget(
+    altitude_m: float,
+    inclination_deg: float,
+    separation_m: float = 1000.0,
+    direction: Literal["along-track", "radial", "cross-track"] = "along-track",
+    *,
+    mass_kg: float,
+    drag_area_m2: float,
+    drag_area_2_m2: Optional[float] = None,
+    drag_coefficient: float = 2.2,
+    srp_area_m2: Optional[float] = None,
+    srp_area_2_m2: Optional[float] = None,
+    reflectivity_coefficient: float = 1.5,
+    atmosphere: Literal["harris-priester", "exponential-table"] = "harris-priester",
+    epoch_utc: str = "2000-01-01T12:00:00Z",
+) -> dict[str, dict[str, Optional[float]]]:
+    """The perturbation budget of a satellite pair on a circular orbit, as `satflock budget` prints it:
+    for each term the acceleration on satellite 1, the differential acceleration between the two and the
+    along-track drift it causes. Orders of magnitude for deciding which forces to neglect (method and what
+    is left out: docs/dynamics.md).
+
+    Satellite 1 is on the circular orbit (ascending node on the EME2000 x axis);
+    satellite 2 on its own circular orbit `separation_m` away along the arc: the same orbit ahead
+    (along-track), a coplanar orbit higher (radial), or an orbit inclined `separation_m / r` more about the
+    same nodes (cross-track). Every quantity is the mean over 36 points of the orbit, the Sun and the Moon
+    held at their epoch positions.
+
+    Args:
+        altitude_m: altitude of the orbit above the equatorial radius [m] (100e3 to 2000e3).
+        inclination_deg: inclination [deg] (0 to 180).
+        separation_m: distance between the two satellites along the arc [m] (> 0, at most 100e3).
+        direction: the axis of satellite 1's Hill frame the separation is along.
+        mass_kg: each satellite's mass [kg] (> 0).
+        drag_area_m2: satellite 1's drag area [m^2] (>= 0).
+        drag_area_2_m2: satellite 2's drag area [m^2] (>= 0); None: twice `drag_area_m2`, so that the
+            differential drag (from different ballistic coefficients) shows.
+        drag_coefficient: C_d of both satellites (0 to 10).
+        srp_area_m2: satellite 1's area facing the Sun [m^2] (>= 0); None: its drag area.
+        srp_area_2_m2: satellite 2's area facing the Sun [m^2] (>= 0); None: its drag area.
+        reflectivity_coefficient: C_r of both satellites (0 to 2; SRP without shadow, always lit).
+        atmosphere: `"harris-priester"` (no drag above 1000 km) or `"exponential-table"` (Vallado's static
+            table).
+        epoch_utc: the instant of the budget (ISO 8601 UTC): the Sun's and the Moon's positions, the
+            atmosphere's diurnal bulge.
+
+    Returns:
+        term -> row, for the terms `"J2"`, `"J3"`, `"J4"`, `"J5"`, `"J6"` (each zonal harmonic alone,
+        EGM96), `"drag"`, `"srp"`, `"sun"`, `"moon"` and `"hcw-linearisation"` (the exact two-body relative
+        acceleration minus its HCW linearisation, for the straight-line offset). Each row:
+        `"acceleration_mps2"`: orbit mean of |a| on satellite 1 [m/s^2] (None for `"hcw-linearisation"`);
+        `"differential_acceleration_mps2"`: orbit mean of |a_2 - a_1| (inertial) [m/s^2];
+        `"drift_per_orbit_m"`, `"drift_per_day_m"`: the secular along-track drift [m] after one orbit and
+        after 86400 s, |(3/2) a_y t^2 + 2 a_x t / n| for the orbit mean of the differential acceleration
+        (each satellite's own Hill frame: x radial, y along-track).
+
+    Raises:
+        ValueError: a value out of range, naming the argument and the allowed range.
     """
 
 # ------------------------------------------------------------------------------------------- campaigns

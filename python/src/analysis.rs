@@ -16,6 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
 
+use satflock::dynamics::{ForceSet, ForcesConfig, PhysicalProperties};
 use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::metrics::{five_elements, FiveElementsWorkspace, MetricsError};
 use satflock::orbit::{CartesianState, EarthModel, GravityModel, Vector3};
@@ -246,7 +247,8 @@ type Propagated<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArrayDyn<f64>>);
 #[pyo3(signature = (
     states_eci, duration_s, step_s, output_step_s = None, gravity = "j2", frame = "eme2000",
     reference = None, threads = None, *, integrator = "rk78", rtol = 1e-12, atol = 1e-6,
-    mu_m3_s2 = None, earth_radius_m = None, j2 = None
+    mu_m3_s2 = None, earth_radius_m = None, j2 = None, forces = None,
+    epoch_utc = satflock::time::DEFAULT_EPOCH_UTC
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn propagate<'py>(
@@ -265,6 +267,8 @@ pub fn propagate<'py>(
     mu_m3_s2: Option<f64>,
     earth_radius_m: Option<f64>,
     j2: Option<f64>,
+    forces: Option<&Bound<'py, PyDict>>,
+    epoch_utc: &str,
 ) -> PyResult<Propagated<'py>> {
     let (shape, values) = float_array(states_eci, "states_eci")?;
     let single = match shape.as_slice() {
@@ -338,13 +342,41 @@ pub fn propagate<'py>(
             (None, false) => None,
         };
     let defaults = EarthModel::WGS84_EGM96;
+    let earth = EarthModel {
+        mu_m3_s2: mu_m3_s2.unwrap_or(defaults.mu_m3_s2),
+        equatorial_radius_m: earth_radius_m.unwrap_or(defaults.equatorial_radius_m),
+        j2: j2.unwrap_or(defaults.j2),
+    };
+    let epoch = satflock::time::parse_epoch_utc(epoch_utc)
+        .map_err(|m| PyValueError::new_err(format!("epoch_utc: {m}")))?;
+    let (force_set, properties) = match forces {
+        Some(table) => {
+            if gravity != "j2" {
+                return Err(PyValueError::new_err(
+                    "gravity and forces both given (allowed: the gravity model inside forces, as \
+                     forces = {\"gravity\": {\"model\": ...}})",
+                ));
+            }
+            let table =
+                crate::convert::dict_to_table(table, "forces").map_err(PyValueError::new_err)?;
+            let config: ForcesConfig = toml::Value::Table(table)
+                .try_into()
+                .map_err(|e| PyValueError::new_err(format!("forces: {e}")))?;
+            let invalid = |e: satflock::dynamics::ForceConfigError| {
+                PyValueError::new_err(format!("forces: {e}"))
+            };
+            let set = ForceSet::from_config(&config, &earth, epoch).map_err(invalid)?;
+            (set, config.satellite_properties().map_err(invalid)?)
+        }
+        None => (
+            ForceSet::gravity(gravity_model, earth),
+            PhysicalProperties::point_mass(1.0),
+        ),
+    };
     let settings = PropagationSettings {
-        earth: EarthModel {
-            mu_m3_s2: mu_m3_s2.unwrap_or(defaults.mu_m3_s2),
-            equatorial_radius_m: earth_radius_m.unwrap_or(defaults.equatorial_radius_m),
-            j2: j2.unwrap_or(defaults.j2),
-        },
-        gravity: gravity_model,
+        earth,
+        forces: Arc::new(force_set),
+        properties,
         integrator,
         step_s,
         tolerances: Tolerances {

@@ -9,6 +9,7 @@
 //! | `detached.rs` | Rust work off the GIL, on chosen threads, stopped by Ctrl-C |
 //! | `scenario.rs` | `Scenario`: load, from TOML or a dict, dotted-key access, validation |
 //! | `analysis.rs` | `characterize` (the five elements) and `propagate` (orbits without control) |
+//! | `budget.rs` | `budget`: the perturbation budget of a satellite pair |
 //! | `campaign.rs` | `CampaignPlan`, `CampaignOutput`: campaigns, locally or step by step for Ray |
 //! | `law.rs` | a guidance law written in Python (`law=`), and its `LawContext` |
 //! | `records.rs` | the in-memory recorder of `Simulation`; tables as numpy arrays |
@@ -16,6 +17,7 @@
 //! | `simulation.rs` | `Simulation`: a scenario stepped from Python |
 
 mod analysis;
+mod budget;
 mod campaign;
 mod convert;
 mod detached;
@@ -36,6 +38,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::PyScenario>()?;
     m.add_function(wrap_pyfunction!(analysis::characterize, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::propagate, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::budget, m)?)?;
     m.add_class::<campaign::CampaignPlan>()?;
     m.add_class::<campaign::CampaignOutput>()?;
     m.add_class::<simulation::PySimulation>()?;

@@ -1,6 +1,7 @@
 //! The fused structure-of-arrays RK4 kernel: fixed-step RK4 of many independent satellites under point
-//! mass or point mass + J2 gravity plus a constant per-satellite acceleration, with an optional delta-v
-//! ledger, over the component-major layout `x[0..n], y[0..n], z[0..n], vx[0..n], vy[0..n], vz[0..n]`
+//! mass or point mass + J2 gravity, optionally with drag in a one-layer exponential atmosphere (the
+//! force sets [`FastForces`] names), plus a constant per-satellite acceleration, with an optional
+//! delta-v ledger, over the component-major layout `x[0..n], y[0..n], z[0..n], vx[0..n], vy[0..n], vz[0..n]`
 //! (then, with the ledger, its four components likewise).
 //!
 //! # Fused
@@ -18,7 +19,10 @@
 //! [`Rk4`](super::Rk4) stepping one satellite (`y + h * (0.0 + a k)` for the stage arguments with zero
 //! coefficients skipped, `y + h * ((((0.0 + b0 k1) + b1 k2) + b2 k3) + b3 k4)` for the new state, the
 //! steps split as [`Rk4::integrate`](super::Rk4::integrate) splits them) with the right-hand side of
-//! [`GravityModel::acceleration_m_s2`] plus the held acceleration. Rust does not contract `a * b + c`
+//! [`GravityModel::acceleration_m_s2`] (plus, with drag, [`crate::dynamics::drag_acceleration_m_s2`]
+//! at the exponential density of the height above the sphere, the exponential taken per lane with the
+//! same `f64::exp`) plus the held acceleration, summed in the order [`crate::dynamics::ForceSet`] sums
+//! them. Rust does not contract `a * b + c`
 //! into a fused multiply-add and no copy enables FMA, so the portable and wide copies give the same bits,
 //! which the tests check against the generic stepper. Satellites do not interact, so the result of one
 //! does not depend on its lane, block, chunk or thread: it is bitwise identical for any thread count.
@@ -32,6 +36,7 @@
 use nalgebra::Vector3;
 
 use super::rk4::{StepPlan, A, B};
+use crate::dynamics::{FastForces, EARTH_ROTATION_RAD_S};
 use crate::orbit::{EarthModel, GravityModel};
 
 /// Satellites per parallel chunk: splits of the work fall on multiples of it.
@@ -129,6 +134,11 @@ pub enum FusedError {
         /// Longest step (s).
         max_step_s: f64,
     },
+    /// The kernel computes drag but the segment gave no per-satellite `C_d A / m`.
+    #[error(
+        "the kernel computes drag: drag_area_per_mass_m2_per_kg must be given for every satellite"
+    )]
+    MissingDragAreas,
     /// The requested copy does not run on this CPU.
     #[error("the {} kernel does not run on this CPU", .0.name())]
     Unavailable(Simd),
@@ -144,6 +154,10 @@ pub struct SegmentInputs<'a> {
     pub ledger_command_hill_m_s2: Option<&'a [Vector3<f64>]>,
     /// Which satellites move (the others are left as they are); `None`: all.
     pub active: Option<&'a [bool]>,
+    /// Each satellite's drag term `C_d A / m` \[m^2/kg\] (as
+    /// [`crate::dynamics::PhysicalProperties::drag_area_per_mass_m2_per_kg`] forms it): required by a
+    /// kernel with drag, ignored by one without.
+    pub drag_area_per_mass_m2_per_kg: Option<&'a [f64]>,
 }
 
 /// Fixed-step RK4 of independent satellites over structure-of-arrays state: each block of
@@ -154,6 +168,7 @@ pub struct SegmentInputs<'a> {
 pub struct FusedRk4 {
     gravity: GravityModel,
     earth: EarthModel,
+    drag: Option<DragConstants>,
     simd: Simd,
     parallel_min_sat_steps: usize,
 }
@@ -164,9 +179,38 @@ impl FusedRk4 {
         Self {
             gravity,
             earth,
+            drag: None,
             simd: Simd::detect(),
             parallel_min_sat_steps: PARALLEL_MIN_SAT_STEPS,
         }
+    }
+
+    /// A kernel for the force set `forces` (gravity alone, or gravity and exponential drag), running
+    /// the widest copy this CPU has.
+    pub fn for_forces(forces: FastForces) -> Self {
+        match forces {
+            FastForces::Gravity(gravity, earth) => Self::new(gravity, earth),
+            FastForces::GravityExponentialDrag {
+                gravity,
+                earth,
+                atmosphere,
+                corotation,
+            } => Self {
+                drag: Some(DragConstants {
+                    reference_density_kg_per_m3: atmosphere.reference_density_kg_per_m3,
+                    reference_altitude_m: atmosphere.reference_altitude_m,
+                    scale_height_m: atmosphere.scale_height_m,
+                    radius_m: earth.equatorial_radius_m,
+                    corotation,
+                }),
+                ..Self::new(gravity, earth)
+            },
+        }
+    }
+
+    /// Whether the kernel computes drag (and so needs each satellite's `C_d A / m`).
+    pub fn has_drag(&self) -> bool {
+        self.drag.is_some()
     }
 
     /// The same kernel forking onto the rayon pool from `sat_steps` of work (satellites × steps of a
@@ -235,6 +279,14 @@ impl FusedRk4 {
         if let Some(a) = inputs.active {
             check("active", a.len(), n)?;
         }
+        let drag_areas = match (self.drag.is_some(), inputs.drag_area_per_mass_m2_per_kg) {
+            (true, None) if n > 0 => return Err(FusedError::MissingDragAreas),
+            (true, Some(b)) => {
+                check("drag_area_per_mass_m2_per_kg", b.len(), n)?;
+                Some(b)
+            }
+            _ => None,
+        };
         if !(max_step_s > 0.0 && max_step_s.is_finite() && t0_s.is_finite() && t1_s.is_finite()) {
             return Err(FusedError::Interval {
                 t0_s,
@@ -257,6 +309,7 @@ impl FusedRk4 {
             }),
             control: inputs.control_eci_m_s2,
             active: inputs.active,
+            drag_areas,
             offset: 0,
         };
         let parallel = n.saturating_mul(plan.steps) >= self.parallel_min_sat_steps
@@ -266,6 +319,7 @@ impl FusedRk4 {
             constants,
             plan,
             j2: self.gravity == GravityModel::J2,
+            drag: self.drag,
             simd: self.simd,
         };
         if parallel {
@@ -295,11 +349,23 @@ impl Constants {
     }
 }
 
+/// The exponential atmosphere and the co-rotation as the drag expression uses them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct DragConstants {
+    reference_density_kg_per_m3: f64,
+    reference_altitude_m: f64,
+    scale_height_m: f64,
+    /// The sphere the height is measured above \[m\].
+    radius_m: f64,
+    corotation: bool,
+}
+
 /// One segment's work, the same for every part of the swarm.
 struct Job {
     constants: Constants,
     plan: StepPlan,
     j2: bool,
+    drag: Option<DragConstants>,
     simd: Simd,
 }
 
@@ -311,6 +377,8 @@ struct Part<'a> {
     ledger: Option<Ledger<'a>>,
     control: Option<&'a [Vector3<f64>]>,
     active: Option<&'a [bool]>,
+    /// Each satellite's `C_d A / m` (kernels with drag).
+    drag_areas: Option<&'a [f64]>,
     /// Index of the part's first satellite in the swarm (for the held inputs).
     offset: usize,
 }
@@ -414,21 +482,31 @@ type Vec3<const L: usize> = [Lanes<L>; 3];
 
 #[inline(always)]
 fn run_lanes<const L: usize>(job: &Job, part: Part<'_>) {
-    if job.j2 {
-        run_blocks::<L, true>(job, part);
-    } else {
-        run_blocks::<L, false>(job, part);
+    match (job.j2, job.drag.is_some()) {
+        (true, false) => run_blocks::<L, true, false>(job, part),
+        (false, false) => run_blocks::<L, false, false>(job, part),
+        (true, true) => run_blocks::<L, true, true>(job, part),
+        (false, true) => run_blocks::<L, false, true>(job, part),
     }
+}
+
+/// The forces of one segment as the lane arithmetic reads them.
+struct Forces<'c, const L: usize> {
+    constants: &'c Constants,
+    drag: Option<&'c DragConstants>,
+    /// `C_d A / m` per lane (zero without drag).
+    drag_areas: Lanes<L>,
 }
 
 /// Steps every satellite of `part`, `L` at a time, through the whole segment, then its ledger.
 #[inline(always)]
-fn run_blocks<const L: usize, const J2: bool>(job: &Job, part: Part<'_>) {
+fn run_blocks<const L: usize, const J2: bool, const DRAG: bool>(job: &Job, part: Part<'_>) {
     let Part {
         pv,
         ledger,
         control,
         active,
+        drag_areas,
         offset,
     } = part;
     let n = pv[0].len();
@@ -439,6 +517,11 @@ fn run_blocks<const L: usize, const J2: bool>(job: &Job, part: Part<'_>) {
         let mut p: Vec3<L> = [[0.0; L]; 3];
         let mut v: Vec3<L> = [[0.0; L]; 3];
         let mut u: Vec3<L> = [[0.0; L]; 3];
+        let mut forces = Forces {
+            constants: &job.constants,
+            drag: job.drag.as_ref(),
+            drag_areas: [0.0; L],
+        };
         // The unused lanes of the last block repeat its last satellite (finite, never stored).
         for l in 0..L {
             let i = start + l.min(len - 1);
@@ -452,9 +535,12 @@ fn run_blocks<const L: usize, const J2: bool>(job: &Job, part: Part<'_>) {
                     u[k][l] = c[k];
                 }
             }
+            if let Some(b) = drag_areas {
+                forces.drag_areas[l] = b[offset + i];
+            }
         }
         for s in 0..job.plan.steps {
-            step::<L, J2>(&job.constants, &mut p, &mut v, &u, job.plan.step_s(s));
+            step::<L, J2, DRAG>(&forces, &mut p, &mut v, &u, job.plan.step_s(s));
         }
         for l in 0..len {
             if moves(start + l) {
@@ -483,14 +569,31 @@ fn run_blocks<const L: usize, const J2: bool>(job: &Job, part: Part<'_>) {
     }
 }
 
-/// Gravity plus the held acceleration at `p`, per lane, as [`GravityModel::acceleration_m_s2`] forms it.
+/// Gravity (plus drag) plus the held acceleration at `p`, `v`, per lane, as
+/// [`GravityModel::acceleration_m_s2`] and [`crate::dynamics::drag_acceleration_m_s2`] form them and
+/// [`crate::dynamics::ForceSet`] sums them: `(gravity + drag) + held`.
 #[inline(always)]
-fn acceleration<const L: usize, const J2: bool>(
-    c: &Constants,
+fn acceleration<const L: usize, const J2: bool, const DRAG: bool>(
+    f: &Forces<'_, L>,
     p: &Vec3<L>,
+    v: &Vec3<L>,
     u: &Vec3<L>,
 ) -> Vec3<L> {
+    let c = f.constants;
     let mut a = [[0.0; L]; 3];
+    // The exponential density per lane: `f64::exp` has no vector form, so it is taken lane by lane
+    // (the same call as the generic path, hence the same bits).
+    let mut density = [0.0; L];
+    if DRAG {
+        if let Some(d) = f.drag {
+            for l in 0..L {
+                let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
+                let altitude = (x * x + y * y + z * z).sqrt() - d.radius_m;
+                density[l] = d.reference_density_kg_per_m3
+                    * ((d.reference_altitude_m - altitude) / d.scale_height_m).exp();
+            }
+        }
+    }
     for l in 0..L {
         let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
         let r2 = x * x + y * y + z * z;
@@ -506,9 +609,28 @@ fn acceleration<const L: usize, const J2: bool>(
         } else {
             (-mu_over_r3, -mu_over_r3)
         };
-        a[0][l] = horizontal * x + u[0][l];
-        a[1][l] = horizontal * y + u[1][l];
-        a[2][l] = vertical * z + u[2][l];
+        let (mut ax, mut ay, mut az) = (horizontal * x, horizontal * y, vertical * z);
+        if DRAG {
+            if let Some(d) = f.drag {
+                let (vx, vy, vz) = if d.corotation {
+                    (
+                        v[0][l] + EARTH_ROTATION_RAD_S * y,
+                        v[1][l] - EARTH_ROTATION_RAD_S * x,
+                        v[2][l],
+                    )
+                } else {
+                    (v[0][l], v[1][l], v[2][l])
+                };
+                let speed = (vx * vx + vy * vy + vz * vz).sqrt();
+                let k = -0.5 * density[l] * f.drag_areas[l] * speed;
+                ax += k * vx;
+                ay += k * vy;
+                az += k * vz;
+            }
+        }
+        a[0][l] = ax + u[0][l];
+        a[1][l] = ay + u[1][l];
+        a[2][l] = az + u[2][l];
     }
     a
 }
@@ -539,23 +661,23 @@ fn combine<const L: usize>(y: &mut Vec3<L>, h: f64, k: [&Vec3<L>; 4]) {
 
 /// One RK4 step of `L` satellites; the position's derivative is the velocity.
 #[inline(always)]
-fn step<const L: usize, const J2: bool>(
-    c: &Constants,
+fn step<const L: usize, const J2: bool, const DRAG: bool>(
+    f: &Forces<'_, L>,
     p: &mut Vec3<L>,
     v: &mut Vec3<L>,
     u: &Vec3<L>,
     h: f64,
 ) {
-    let a1 = acceleration::<L, J2>(c, p, u);
+    let a1 = acceleration::<L, J2, DRAG>(f, p, v, u);
     let p2 = stage(p, h, A[1][0], v);
     let v2 = stage(v, h, A[1][0], &a1);
-    let a2 = acceleration::<L, J2>(c, &p2, u);
+    let a2 = acceleration::<L, J2, DRAG>(f, &p2, &v2, u);
     let p3 = stage(p, h, A[2][1], &v2);
     let v3 = stage(v, h, A[2][1], &a2);
-    let a3 = acceleration::<L, J2>(c, &p3, u);
+    let a3 = acceleration::<L, J2, DRAG>(f, &p3, &v3, u);
     let p4 = stage(p, h, A[3][2], &v3);
     let v4 = stage(v, h, A[3][2], &a3);
-    let a4 = acceleration::<L, J2>(c, &p4, u);
+    let a4 = acceleration::<L, J2, DRAG>(f, &p4, &v4, u);
     let v1 = *v;
     combine(p, h, [&v1, &v2, &v3, &v4]);
     combine(v, h, [&a1, &a2, &a3, &a4]);
@@ -680,6 +802,7 @@ mod tests {
             control_eci_m_s2: control.then_some(&c.control[..]),
             ledger_command_hill_m_s2: ledger.then_some(&c.command[..]),
             active: mask.then_some(&c.active[..]),
+            drag_area_per_mass_m2_per_kg: None,
         };
         kernel.advance(&mut flat, n, &inputs, t0, t1, h).unwrap();
         c.blocks
@@ -757,6 +880,141 @@ mod tests {
             }
         }
         assert!(tested >= 4 * 2 * 3 * 3 * 3);
+    }
+
+    /// With drag in a one-layer exponential atmosphere (co-rotating or not, satellites of different
+    /// C_d A / m, some with none), every copy on 1 and 2 threads gives the bits of the generic RK4 whose
+    /// right-hand side is the force set (gravity + drag) plus the held acceleration, as the engine's
+    /// generic path forms it.
+    #[test]
+    fn with_exponential_drag_bitwise_identical_to_the_generic_rk4_on_the_force_set() {
+        use crate::dynamics::{ForceSet, ForcesConfig, PhysicalProperties};
+        let earth = EarthModel::WGS84_EGM96;
+        let epoch = crate::time::parse_epoch_utc("2026-06-01T00:00:00Z").unwrap();
+        let n = 45;
+        let c = case(n, 9);
+        let properties: Vec<PhysicalProperties> = (0..n)
+            .map(|i| PhysicalProperties {
+                mass_kg: 3.0 + i as f64,
+                drag_area_m2: if i % 6 == 1 {
+                    0.0
+                } else {
+                    0.01 * (1 + i % 4) as f64
+                },
+                drag_coefficient: 2.2,
+                srp_area_m2: 0.0,
+                reflectivity_coefficient: 0.0,
+            })
+            .collect();
+        let areas: Vec<f64> = properties
+            .iter()
+            .map(PhysicalProperties::drag_area_per_mass_m2_per_kg)
+            .collect();
+        for (gravity, corotation) in [("j2", true), ("point-mass", false)] {
+            let text = format!(
+                "[gravity]\nmodel = \"{gravity}\"\n[drag]\natmosphere = \"exponential\"\n\
+                 reference_density_kg_per_m3 = 3.725e-12\nreference_altitude_m = 400e3\n\
+                 scale_height_m = 58515.0\ncorotation = {corotation}\n"
+            );
+            let config: ForcesConfig = toml::from_str(&text).unwrap();
+            let set = ForceSet::from_config(&config, &earth, epoch).unwrap();
+            let (t0, t1, h) = (5.0, 95.5, 2.0);
+            let mut rk = Rk4::new(10);
+            let want: Vec<[f64; 10]> = c
+                .blocks
+                .iter()
+                .enumerate()
+                .map(|(i, block)| {
+                    let mut y = *block;
+                    if !c.active[i] {
+                        return y;
+                    }
+                    let (u, w, p) = (c.control[i], c.command[i], properties[i]);
+                    let rates = [w.x.abs(), w.y.abs(), w.z.abs(), w.norm()];
+                    let rhs = |t: f64, y: &[f64], dy: &mut [f64]| {
+                        let r = Vector3::new(y[0], y[1], y[2]);
+                        let v = Vector3::new(y[3], y[4], y[5]);
+                        let a = set.acceleration_eci_m_s2(&set.instant(t), &r, &v, &p) + u;
+                        dy[0..3].copy_from_slice(&y[3..6]);
+                        dy[3..6].copy_from_slice(a.as_slice());
+                        dy[6..10].copy_from_slice(&rates);
+                    };
+                    rk.integrate(&rhs, t0, t1, &mut y, h);
+                    y
+                })
+                .collect();
+            let fast = set
+                .fast_forces()
+                .expect("gravity + exponential drag is a fast set");
+            for simd in Simd::ALL.into_iter().filter(|s| s.is_available()) {
+                let kernel = FusedRk4::for_forces(fast).with_simd(simd).unwrap();
+                assert!(kernel.has_drag());
+                for threads in [1, 2] {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads)
+                        .build()
+                        .unwrap();
+                    let mut flat: Vec<f64> = (0..10)
+                        .flat_map(|k| c.blocks.iter().map(move |b| b[k]))
+                        .collect();
+                    let inputs = SegmentInputs {
+                        control_eci_m_s2: Some(&c.control),
+                        ledger_command_hill_m_s2: Some(&c.command),
+                        active: Some(&c.active),
+                        drag_area_per_mass_m2_per_kg: Some(&areas),
+                    };
+                    pool.install(|| kernel.advance(&mut flat, n, &inputs, t0, t1, h))
+                        .unwrap();
+                    let got: Vec<[f64; 10]> = (0..n)
+                        .map(|i| std::array::from_fn(|k| flat[k * n + i]))
+                        .collect();
+                    let what = format!(
+                        "{gravity} drag corotation {corotation} {} {threads}",
+                        simd.name()
+                    );
+                    assert_bitwise(&got, &want, &what);
+                }
+            }
+            // And drag really acts: without it the states differ.
+            let plain = FusedRk4::new(
+                if gravity == "j2" {
+                    GravityModel::J2
+                } else {
+                    GravityModel::TwoBody
+                },
+                earth,
+            );
+            let mut flat: Vec<f64> = (0..10)
+                .flat_map(|k| c.blocks.iter().map(move |b| b[k]))
+                .collect();
+            let inputs = SegmentInputs {
+                control_eci_m_s2: Some(&c.control),
+                ledger_command_hill_m_s2: Some(&c.command),
+                active: Some(&c.active),
+                drag_area_per_mass_m2_per_kg: None,
+            };
+            plain.advance(&mut flat, n, &inputs, t0, t1, h).unwrap();
+            let moved = (0..n).filter(|&i| {
+                c.active[i] && properties[i].drag_area_m2 > 0.0 && flat[3 * n + i] != want[i][3]
+            });
+            assert!(moved.count() > n / 2);
+        }
+        // A drag kernel without the areas is refused.
+        let kernel = FusedRk4::for_forces(crate::dynamics::FastForces::GravityExponentialDrag {
+            gravity: GravityModel::J2,
+            earth,
+            atmosphere: crate::dynamics::Exponential {
+                reference_density_kg_per_m3: 3.725e-12,
+                reference_altitude_m: 400e3,
+                scale_height_m: 58515.0,
+            },
+            corotation: true,
+        });
+        let mut state = vec![7e6; 30];
+        assert!(matches!(
+            kernel.advance(&mut state, 5, &SegmentInputs::default(), 0.0, 1.0, 1.0),
+            Err(FusedError::MissingDragAreas)
+        ));
     }
 
     #[test]

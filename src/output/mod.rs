@@ -27,4 +27,4 @@ pub use recorder::{OutputFormat, RunRecorder, TableFormats};
 pub use run_data::{RunData, RunDataError, Table};
 pub use scene::Scene;
 pub use spread::Spread;
-pub use summary::{DeltaVSummary, RunStatus, RunSummary};
+pub use summary::{DeltaVSummary, DynamicsSummary, RunStatus, RunSummary};

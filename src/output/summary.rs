@@ -106,8 +106,12 @@ pub struct RunSummary {
     pub satellite_steps_per_s: f64,
     /// Threads used.
     pub threads: usize,
-    /// Wall-clock time per stage of the engine \[s\] (measures the machine, like `wall_time_s`).
+    /// Wall-clock time per stage of the engine \[s\] (measures the machine, like `wall_time_s`) and
+    /// the propagation path taken.
     pub timing: StageTimings,
+    /// The truth dynamics: the model's name and, for inertial truth, the force models summed (in
+    /// ECI = EME2000, instants in TT) and the ephemerides they read.
+    pub dynamics: DynamicsSummary,
     /// Delta-v statistics.
     pub delta_v_mps: DeltaVSummary,
     /// Smallest separation between two live satellites seen at any step \[m\].
@@ -125,6 +129,15 @@ pub struct RunSummary {
     pub law: BTreeMap<String, serde_json::Value>,
     /// Scenario tags and run metadata (crate version, platform).
     pub metadata: BTreeMap<String, String>,
+}
+
+/// What `summary.json` says of the truth dynamics.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DynamicsSummary {
+    /// The model (`j2`, `two-body`, `forces`, `hcw`, `j2-linear`, `kinematic`).
+    pub model: String,
+    /// The force set of inertial truth (absent for the relative and kinematic models).
+    pub forces: Option<crate::dynamics::ForceSetSummary>,
 }
 
 /// The continuous threat and obstacle monitors over a run (truth states, Hill frame; satellites as points).

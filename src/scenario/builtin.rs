@@ -20,6 +20,14 @@ pub const BUILTINS: &[Builtin] = &[
         toml: include_str!("../../scenarios/hold.toml"),
     },
     Builtin {
+        name: "hold-drag",
+        toml: include_str!("../../scenarios/hold-drag.toml"),
+    },
+    Builtin {
+        name: "drag-drift",
+        toml: include_str!("../../scenarios/drag-drift.toml"),
+    },
+    Builtin {
         name: "large-swarm",
         toml: include_str!("../../scenarios/large-swarm.toml"),
     },
@@ -34,6 +42,10 @@ pub const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "gao-circle",
         toml: include_str!("../../scenarios/gao-circle.toml"),
+    },
+    Builtin {
+        name: "gao-circle-drag",
+        toml: include_str!("../../scenarios/gao-circle-drag.toml"),
     },
     Builtin {
         name: "gao-circle-steep",

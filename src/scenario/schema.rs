@@ -104,6 +104,9 @@ pub struct DynamicsSection {
     /// a control period or integration step (default 0; dynamic models only).
     #[serde(default)]
     pub process_noise_mps2: f64,
+    /// `[dynamics.forces]`: the force set of inertial truth (gravity model, drag, SRP, third bodies);
+    /// absent: the gravity `model` names (`j2` or `two-body`) alone.
+    pub forces: Option<crate::dynamics::ForcesConfig>,
 }
 
 fn default_integrator() -> IntegratorMethod {
@@ -132,6 +135,7 @@ impl Default for DynamicsSection {
             atol: default_atol(),
             max_distance_m: default_max_distance(),
             process_noise_mps2: 0.0,
+            forces: None,
         }
     }
 }
@@ -176,6 +180,27 @@ pub struct ReferenceSection {
     pub origin: OriginName,
     /// Index of the member satellite that is the origin (with `origin = "member"`).
     pub origin_member: Option<usize>,
+    /// The virtual reference orbit's mass \[kg\], for drag and SRP (absent: the swarm's mean; likewise
+    /// the four keys below).
+    pub mass_kg: Option<f64>,
+    /// The virtual reference orbit's drag reference area \[m^2\].
+    pub drag_area_m2: Option<f64>,
+    /// The virtual reference orbit's drag coefficient.
+    pub drag_coefficient: Option<f64>,
+    /// The virtual reference orbit's SRP area \[m^2\].
+    pub srp_area_m2: Option<f64>,
+    /// The virtual reference orbit's reflectivity coefficient.
+    pub reflectivity_coefficient: Option<f64>,
+}
+
+/// A property of every satellite: one value for all, or one per satellite (in id order).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PerSatellite {
+    /// The same value for every satellite.
+    All(f64),
+    /// One value per satellite, `count` of them.
+    Each(Vec<f64>),
 }
 
 /// LVLH origin names.
@@ -227,6 +252,14 @@ pub struct SatellitesSection {
     /// How the limit applies: `norm` (default) or `per-axis`.
     #[serde(default)]
     pub accel_limit: LimitKind,
+    /// Drag reference area of each satellite \[m^2\] (required when drag acts; a value or a list).
+    pub drag_area_m2: Option<PerSatellite>,
+    /// Drag coefficient C_d of each satellite (default 2.2 when drag acts).
+    pub drag_coefficient: Option<PerSatellite>,
+    /// Area of each satellite facing the Sun \[m^2\] (required when SRP acts).
+    pub srp_area_m2: Option<PerSatellite>,
+    /// Reflectivity coefficient C_r of each satellite (default 1.5 when SRP acts).
+    pub reflectivity_coefficient: Option<PerSatellite>,
     /// Initial relative states.
     pub initial: InitialSection,
     /// Per-satellite overrides (heterogeneous clusters).
@@ -342,6 +375,14 @@ pub struct OverrideSection {
     pub radius_m: Option<f64>,
     /// Actuator limit \[m/s^2\].
     pub max_accel_mps2: Option<f64>,
+    /// Drag reference area \[m^2\].
+    pub drag_area_m2: Option<f64>,
+    /// Drag coefficient.
+    pub drag_coefficient: Option<f64>,
+    /// SRP area \[m^2\].
+    pub srp_area_m2: Option<f64>,
+    /// Reflectivity coefficient.
+    pub reflectivity_coefficient: Option<f64>,
 }
 
 /// `[sensing]`.

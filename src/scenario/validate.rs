@@ -6,6 +6,7 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::Deserialize;
 
+use crate::dynamics::{ForceConfigError, ForceSet, PhysicalProperties};
 use crate::environment::{Obstacle, Threat};
 use crate::guidance::LawConfig;
 use crate::integrate::Tolerances;
@@ -16,7 +17,7 @@ use crate::relative::{Hcw, SchweighartSedwick};
 use crate::scenario::initial;
 use crate::scenario::schema::{
     ActionSection, AxisName, ControlMode, InitialSection, ListFrame, ModelName, ObstacleSection,
-    OriginName, SelectionSection, ThreatSection,
+    OriginName, PerSatellite, SelectionSection, ThreatSection,
 };
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
@@ -41,8 +42,8 @@ const LINEAR_MODEL_MAX_ECCENTRICITY: f64 = 0.01;
 /// several GB and hours per simulated orbit; a larger count is a typo, not a swarm this engine can run.
 pub const MAX_SATELLITES: usize = 10_000_000;
 
-/// Lowest perigee altitude of the reference orbit \[m\]: below 100 km (the Kármán line) drag, which no
-/// model here includes, brings a satellite down within hours.
+/// Lowest perigee altitude of the reference orbit \[m\]: below 100 km (the Kármán line) drag brings a
+/// satellite down within hours (and the atmosphere models end there).
 pub const MIN_PERIGEE_ALTITUDE_M: f64 = 100e3;
 
 /// Largest apogee radius of the reference orbit \[m\]: the Earth's Hill sphere (about 1.5 million km);
@@ -122,7 +123,7 @@ impl Prepared {
         let min_mass_kg = self
             .satellites
             .iter()
-            .map(|s| s.mass_kg)
+            .map(|s| s.properties.mass_kg)
             .fold(f64::INFINITY, f64::min);
         let key = match check_law_fits(&law, &self.config, min_mass_kg) {
             Err(SimError::CommandKindMismatch { .. }) => "dynamics.model",
@@ -246,11 +247,27 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     // Reference orbit.
     let (reference, elements) = reference_orbit(&c, scenario, &earth)?;
     let mean_motion_rad_s = earth.mean_motion_rad_s(elements.semi_major_axis_m);
-    let dynamics = match dy.model {
-        ModelName::J2 => DynamicsModel::Inertial(GravityModel::J2),
-        ModelName::TwoBody => DynamicsModel::Inertial(GravityModel::TwoBody),
-        ModelName::Kinematic => DynamicsModel::Kinematic,
-        ModelName::Hcw | ModelName::J2Linear => {
+    let epoch = crate::time::parse_epoch_utc(
+        f.epoch_utc
+            .as_deref()
+            .unwrap_or(crate::time::DEFAULT_EPOCH_UTC),
+    )
+    .map_err(|e| c.invalid("epoch_utc", e))?;
+    let dynamics = match (dy.model, &dy.forces) {
+        (ModelName::J2 | ModelName::TwoBody, Some(forces)) => {
+            force_set(&c, dy.model, forces, &earth, epoch)?
+        }
+        (_, Some(_)) => {
+            return Err(c.invalid(
+                "dynamics.forces",
+                "force models act on inertial truth only (allowed: with model = \"j2\" or \
+                 \"two-body\"; the relative and kinematic models have their own equations)",
+            ))
+        }
+        (ModelName::J2, None) => DynamicsModel::inertial(GravityModel::J2, earth),
+        (ModelName::TwoBody, None) => DynamicsModel::inertial(GravityModel::TwoBody, earth),
+        (ModelName::Kinematic, None) => DynamicsModel::Kinematic,
+        (ModelName::Hcw | ModelName::J2Linear, None) => {
             if elements.eccentricity > LINEAR_MODEL_MAX_ECCENTRICITY {
                 return Err(c.invalid(
                     "dynamics.model",
@@ -405,6 +422,27 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         }
     };
     let mass_kg = c.positive("satellites.mass_kg", s.mass_kg)?;
+    let forces = dynamics.forces();
+    let drag = forces.is_some_and(|f| f.uses_drag_properties());
+    let srp = forces.is_some_and(|f| f.uses_srp_properties());
+    let drag_areas = per_satellite(&c, "drag_area_m2", &s.drag_area_m2, drag, None, count)?;
+    let drag_coefficients = per_satellite(
+        &c,
+        "drag_coefficient",
+        &s.drag_coefficient,
+        drag,
+        Some(2.2),
+        count,
+    )?;
+    let srp_areas = per_satellite(&c, "srp_area_m2", &s.srp_area_m2, srp, None, count)?;
+    let reflectivities = per_satellite(
+        &c,
+        "reflectivity_coefficient",
+        &s.reflectivity_coefficient,
+        srp,
+        Some(1.5),
+        count,
+    )?;
     let radius_m = c.non_negative("satellites.radius_m", s.radius_m)?;
     let max_accel = match s.max_accel_mps2 {
         Some(a) => c.positive("satellites.max_accel_mps2", a)?,
@@ -415,9 +453,10 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         DynamicsModel::J2Linear(model) => model,
         _ => {
             let h = reference.specific_angular_momentum_m2_s();
-            let j2 = match dynamics {
-                DynamicsModel::Inertial(GravityModel::J2) => earth.j2,
-                _ => 0.0,
+            let j2 = if dynamics.reference_has_j2() {
+                earth.j2
+            } else {
+                0.0
             };
             SchweighartSedwick::new(
                 reference.position_m.norm(),
@@ -441,9 +480,16 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     )?;
     let mut satellites: Vec<SatelliteInit> = states
         .into_iter()
-        .map(|relative_state| SatelliteInit {
+        .enumerate()
+        .map(|(id, relative_state)| SatelliteInit {
             relative_state,
-            mass_kg,
+            properties: PhysicalProperties {
+                mass_kg,
+                drag_area_m2: drag_areas[id],
+                drag_coefficient: drag_coefficients[id],
+                srp_area_m2: srp_areas[id],
+                reflectivity_coefficient: reflectivities[id],
+            },
             radius_m,
             actuator: Actuator::new(max_accel, s.accel_limit),
         })
@@ -454,7 +500,31 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             c.index(&key("ids"), id, count)?;
             let sat = &mut satellites[id];
             if let Some(m) = o.mass_kg {
-                sat.mass_kg = c.positive(&key("mass_kg"), m)?;
+                sat.properties.mass_kg = c.positive(&key("mass_kg"), m)?;
+            }
+            let p = &mut sat.properties;
+            for (name, value, target, used) in [
+                ("drag_area_m2", o.drag_area_m2, &mut p.drag_area_m2, drag),
+                (
+                    "drag_coefficient",
+                    o.drag_coefficient,
+                    &mut p.drag_coefficient,
+                    drag,
+                ),
+                ("srp_area_m2", o.srp_area_m2, &mut p.srp_area_m2, srp),
+                (
+                    "reflectivity_coefficient",
+                    o.reflectivity_coefficient,
+                    &mut p.reflectivity_coefficient,
+                    srp,
+                ),
+            ] {
+                if let Some(v) = value {
+                    if !used {
+                        return Err(unused_property(&c, &key(name)));
+                    }
+                    *target = v;
+                }
             }
             if let Some(r) = o.radius_m {
                 sat.radius_m = c.non_negative(&key("radius_m"), r)?;
@@ -465,6 +535,12 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         }
     }
 
+    for (id, sat) in satellites.iter().enumerate() {
+        sat.properties
+            .validate("satellites.")
+            .map_err(|e| force_error(&c, e, "", Some(id)))?;
+    }
+    let reference_properties = reference_properties(&c, &f.reference, &satellites, drag, srp)?;
     check_initial_distances(&c, &satellites, origin, max_distance_m)?;
     if !s.allow_initial_overlap {
         check_initial_overlap(&c, &satellites)?;
@@ -525,6 +601,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         control,
         origin,
         reference,
+        reference_properties,
         mean_motion_rad_s,
         duration_s,
         record_interval_s,
@@ -539,16 +616,10 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     // Law and events, each law and parameter set checked against the timing now, not when it applies.
     let min_mass_kg = satellites
         .iter()
-        .map(|s| s.mass_kg)
+        .map(|s| s.properties.mass_kg)
         .fold(f64::INFINITY, f64::min);
     let law = build_law(&c, "law", &f.law, &config, count, min_mass_kg)?;
     let events = events(&c, scenario, count, &config, min_mass_kg)?;
-    let epoch = crate::time::parse_epoch_utc(
-        f.epoch_utc
-            .as_deref()
-            .unwrap_or(crate::time::DEFAULT_EPOCH_UTC),
-    )
-    .map_err(|e| c.invalid("epoch_utc", e))?;
     Ok(Prepared {
         epoch,
         name: f.name.clone(),
@@ -1028,6 +1099,153 @@ fn initial_states(
             rows.iter().map(|s| to_hill(*frame, s)).collect()
         }
     })
+}
+
+/// The inertial force set of `[dynamics.forces]`, for the gravity `model` named beside it (a
+/// `two-body` model with a field of more than a point mass is a contradiction, refused).
+fn force_set(
+    c: &Checker<'_>,
+    model: ModelName,
+    forces: &crate::dynamics::ForcesConfig,
+    earth: &EarthModel,
+    epoch: crate::time::Epoch,
+) -> Result<DynamicsModel, ScenarioError> {
+    use crate::dynamics::GravityModelName;
+    if forces.satellite.is_some() {
+        return Err(c.invalid(
+            "dynamics.forces.satellite",
+            "is a `propagate --forces` table (allowed in a scenario: the properties as [satellites] \
+             keys, e.g. satellites.drag_area_m2, and the virtual reference's as [reference] keys)",
+        ));
+    }
+    if model == ModelName::TwoBody && forces.gravity.model != GravityModelName::PointMass {
+        return Err(c.invalid(
+            "dynamics.model",
+            "\"two-body\" contradicts dynamics.forces.gravity.model (allowed: model = \"j2\" (the \
+             default) with a [dynamics.forces] table, whose gravity.model then decides)",
+        ));
+    }
+    let set = ForceSet::from_config(forces, earth, epoch)
+        .map_err(|e| force_error(c, e, "dynamics.forces.", None))?;
+    Ok(DynamicsModel::Inertial(std::sync::Arc::new(set)))
+}
+
+/// A force model's parameter error as the scenario's: the key under `prefix` (and the satellite's id
+/// when the value came from a per-satellite list).
+fn force_error(
+    c: &Checker<'_>,
+    e: ForceConfigError,
+    prefix: &str,
+    id: Option<usize>,
+) -> ScenarioError {
+    let key = match id {
+        Some(id) => format!("{prefix}{} (satellite {id})", e.key),
+        None => format!("{prefix}{}", e.key),
+    };
+    c.invalid(
+        &key,
+        format!("{} is out of range (allowed: {})", e.value, e.allowed),
+    )
+}
+
+/// A property key given although no force model reads it.
+fn unused_property(c: &Checker<'_>, key: &str) -> ScenarioError {
+    c.invalid(
+        key,
+        "is given but no force model reads it (allowed: drag keys with [dynamics.forces.drag], SRP \
+         keys with [dynamics.forces.srp])",
+    )
+}
+
+/// One value per satellite of the `[satellites]` property `name`: a scalar for all, or a list of
+/// `count`. Required (`default` None) or defaulted when a force model reads it (`used`); refused when
+/// none does; 0 when absent and unused.
+fn per_satellite(
+    c: &Checker<'_>,
+    name: &str,
+    value: &Option<PerSatellite>,
+    used: bool,
+    default: Option<f64>,
+    count: usize,
+) -> Result<Vec<f64>, ScenarioError> {
+    let key = format!("satellites.{name}");
+    match (value, used) {
+        (Some(_), false) => Err(unused_property(c, &key)),
+        (None, false) => Ok(vec![0.0; count]),
+        (None, true) => match default {
+            Some(d) => Ok(vec![d; count]),
+            None => Err(c.invalid(
+                &key,
+                "is required: a force model of [dynamics.forces] reads it (allowed: one value for \
+                 every satellite, or a list of one per satellite)",
+            )),
+        },
+        (Some(PerSatellite::All(v)), true) => Ok(vec![*v; count]),
+        (Some(PerSatellite::Each(list)), true) => {
+            if list.len() == count {
+                Ok(list.clone())
+            } else {
+                Err(c.invalid(
+                    &key,
+                    format!(
+                        "has {} values for {count} satellites (allowed: one value, or exactly one \
+                         per satellite)",
+                        list.len()
+                    ),
+                ))
+            }
+        }
+    }
+}
+
+/// The virtual reference orbit's physical properties: each `[reference]` key given, else the swarm's
+/// mean of that property (keys refused when no force model reads them).
+fn reference_properties(
+    c: &Checker<'_>,
+    reference: &crate::scenario::schema::ReferenceSection,
+    satellites: &[SatelliteInit],
+    drag: bool,
+    srp: bool,
+) -> Result<PhysicalProperties, ScenarioError> {
+    let all: Vec<PhysicalProperties> = satellites.iter().map(|s| s.properties).collect();
+    let mut p = PhysicalProperties::mean(&all).unwrap_or(PhysicalProperties::point_mass(1.0));
+    for (name, value, target, used) in [
+        ("mass_kg", reference.mass_kg, &mut p.mass_kg, drag || srp),
+        (
+            "drag_area_m2",
+            reference.drag_area_m2,
+            &mut p.drag_area_m2,
+            drag,
+        ),
+        (
+            "drag_coefficient",
+            reference.drag_coefficient,
+            &mut p.drag_coefficient,
+            drag,
+        ),
+        (
+            "srp_area_m2",
+            reference.srp_area_m2,
+            &mut p.srp_area_m2,
+            srp,
+        ),
+        (
+            "reflectivity_coefficient",
+            reference.reflectivity_coefficient,
+            &mut p.reflectivity_coefficient,
+            srp,
+        ),
+    ] {
+        if let Some(v) = value {
+            if !used {
+                return Err(unused_property(c, &format!("reference.{name}")));
+            }
+            *target = v;
+        }
+    }
+    p.validate("reference.")
+        .map_err(|e| force_error(c, e, "", None))?;
+    Ok(p)
 }
 
 /// Refuses an initial state farther from the frame's origin than `dynamics.max_distance_m` (the run

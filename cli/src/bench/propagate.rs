@@ -1,6 +1,9 @@
 //! `satflock bench propagate`: N independent satellites under point mass + J2 (or point mass) with RK4
 //! through the library's fused structure-of-arrays kernel ([`satflock::integrate::FusedRk4`]), timed on
-//! the propagation alone (not the reading, generation or writing of states).
+//! the propagation alone (not the reading, generation or writing of states). With `--forces FILE.toml`
+//! the force set of that file: on the fused kernel when it covers the set (gravity and exponential
+//! drag), else on the generic path (each satellite alone through the generic RK4 on the force set,
+//! satellites in parallel), which the JSON line names as `path`.
 //!
 //! Initial states come from a CSV with header `sat,x,y,z,vx,vy,vz` (m, m/s, EME2000), or are generated
 //! deterministically: satellite `i` gets the orbit drawn from the splitmix64 stream seeded with `i`
@@ -12,6 +15,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::ValueEnum;
+use rayon::prelude::*;
+use satflock::dynamics::{ForceSet, ForcesConfig, PhysicalProperties};
 use satflock::integrate::{FusedRk4, Rk4, SegmentInputs, Simd};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements};
 
@@ -55,15 +60,19 @@ pub struct PropagateBenchArgs {
     /// Worker threads, 1 to 1024 (default: all cores). Results do not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u16).range(1..=MAX_THREADS))]
     threads: Option<u16>,
-    /// Gravity model.
-    #[arg(long, value_enum, default_value = "j2")]
-    gravity: GravityArg,
+    /// Gravity model (default j2), without --forces.
+    #[arg(long, value_enum)]
+    gravity: Option<GravityArg>,
     /// Copy of the kernel (same bits; `auto` is the widest the CPU has).
     #[arg(long, value_enum, default_value = "auto")]
     simd: SimdArg,
     /// Also write every final state to this CSV (header sat,x,y,z,vx,vy,vz).
     #[arg(long)]
     write_final: Option<PathBuf>,
+    /// A force file (as `satflock propagate --forces`) instead of --gravity; every satellite has its
+    /// [satellite] properties. Its epoch of t = 0 is the default scenario epoch.
+    #[arg(long, conflicts_with = "gravity")]
+    forces: Option<PathBuf>,
 }
 
 /// Runs the benchmark and prints its JSON line.
@@ -81,12 +90,31 @@ pub fn run(args: &PropagateBenchArgs) -> Result<()> {
             args.step_s, args.duration_s
         )));
     }
-    let gravity = match args.gravity {
+    let gravity = match args.gravity.unwrap_or(GravityArg::J2) {
         GravityArg::J2 => GravityModel::J2,
         GravityArg::TwoBody => GravityModel::TwoBody,
     };
     let earth = EarthModel::WGS84_EGM96;
-    let mut kernel = FusedRk4::new(gravity, earth);
+    let (forces, properties) = match &args.forces {
+        Some(path) => {
+            let config = ForcesConfig::from_file(path).map_err(|e| usage(e.to_string()))?;
+            let invalid =
+                |e: satflock::dynamics::ForceConfigError| usage(format!("{}: {e}", path.display()));
+            let epoch = satflock::time::parse_epoch_utc(satflock::time::DEFAULT_EPOCH_UTC)
+                .map_err(usage)?;
+            let set = ForceSet::from_config(&config, &earth, epoch).map_err(invalid)?;
+            (set, config.satellite_properties().map_err(invalid)?)
+        }
+        None => (
+            ForceSet::gravity(gravity, earth),
+            PhysicalProperties::point_mass(1.0),
+        ),
+    };
+    let fast = forces.fast_forces();
+    let mut kernel = match fast {
+        Some(f) => FusedRk4::for_forces(f),
+        None => FusedRk4::new(gravity, earth),
+    };
     let simd = match args.simd {
         SimdArg::Auto => None,
         SimdArg::Portable => Some(Simd::Portable),
@@ -128,9 +156,17 @@ pub fn run(args: &PropagateBenchArgs) -> Result<()> {
         .build()
         .context("cannot start the thread pool")?;
     let threads = pool.current_num_threads();
-    let inputs = SegmentInputs::default();
+    let areas = vec![properties.drag_area_per_mass_m2_per_kg(); n];
+    let inputs = SegmentInputs {
+        drag_area_per_mass_m2_per_kg: kernel.has_drag().then_some(&areas[..]),
+        ..SegmentInputs::default()
+    };
     let start = Instant::now();
-    pool.install(|| kernel.advance(&mut flat, n, &inputs, 0.0, args.duration_s, args.step_s))?;
+    if fast.is_some() {
+        pool.install(|| kernel.advance(&mut flat, n, &inputs, 0.0, args.duration_s, args.step_s))?;
+    } else {
+        pool.install(|| generic(&forces, &properties, &mut flat, n, args));
+    }
     let wall_s = start.elapsed().as_secs_f64();
     let steps = Rk4::step_count(0.0, args.duration_s, args.step_s);
     let first: Vec<f64> = (0..6).map(|k| flat[k * n]).collect();
@@ -146,12 +182,47 @@ pub fn run(args: &PropagateBenchArgs) -> Result<()> {
         "threads": threads,
         "simd": kernel.simd().name(),
         "gravity": gravity.name(),
+        "forces": forces.summary().models,
+        "path": if fast.is_some() { "fused" } else { "generic" },
         "step_s": args.step_s,
         "duration_s": args.duration_s,
         "final_state_first_sat": first,
     });
     println!("{line}");
     Ok(())
+}
+
+/// Every satellite alone through the generic RK4 on `forces` (the engine's generic sampled path without
+/// commands), in parallel over chunks of satellites, on the component-major state `flat`.
+fn generic(
+    forces: &ForceSet,
+    properties: &PhysicalProperties,
+    flat: &mut [f64],
+    n: usize,
+    args: &PropagateBenchArgs,
+) {
+    const CHUNK: usize = 256;
+    let mut blocks: Vec<[f64; 6]> = (0..n)
+        .map(|i| std::array::from_fn(|k| flat[k * n + i]))
+        .collect();
+    blocks.par_chunks_mut(CHUNK).for_each(|chunk| {
+        let mut rk = Rk4::new(6);
+        for y in chunk {
+            let rhs = |t: f64, y: &[f64], dy: &mut [f64]| {
+                let r = satflock::orbit::Vector3::new(y[0], y[1], y[2]);
+                let v = satflock::orbit::Vector3::new(y[3], y[4], y[5]);
+                let a = forces.acceleration_eci_m_s2(&forces.instant(t), &r, &v, properties);
+                dy[0..3].copy_from_slice(&y[3..6]);
+                dy[3..6].copy_from_slice(a.as_slice());
+            };
+            rk.integrate(&rhs, 0.0, args.duration_s, y, args.step_s);
+        }
+    });
+    for (i, y) in blocks.iter().enumerate() {
+        for (k, value) in y.iter().enumerate() {
+            flat[k * n + i] = *value;
+        }
+    }
 }
 
 /// Deterministic numbers in [0, 1) from the splitmix64 stream seeded with `seed`.

@@ -5,6 +5,9 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 use crate::validate::{Check, Report, ValidateError, Verdict};
+use std::sync::Arc;
+
+use satflock::dynamics::{ForceSet, PhysicalProperties};
 use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{CartesianState, EarthModel, GravityModel, KeplerianElements, LvlhFrame};
 use satflock::propagate::{propagate, PropagationSettings};
@@ -28,7 +31,8 @@ fn settings(
 ) -> PropagationSettings {
     PropagationSettings {
         earth: EarthModel::WGS84_EGM96,
-        gravity: GravityModel::J2,
+        forces: Arc::new(ForceSet::gravity(GravityModel::J2, EarthModel::WGS84_EGM96)),
+        properties: PhysicalProperties::point_mass(1.0),
         integrator,
         step_s,
         tolerances: Tolerances {
@@ -227,7 +231,10 @@ fn relative_motion(checks: &mut Vec<Check>, notes: &mut Vec<String>) -> Result<(
         period,
         period / 50.0,
     );
-    two_body.gravity = GravityModel::TwoBody;
+    two_body.forces = Arc::new(ForceSet::gravity(
+        GravityModel::TwoBody,
+        EarthModel::WGS84_EGM96,
+    ));
     let mut worst: f64 = 0.0;
     propagate(&[deputy, chief], &two_body, |t, s| {
         let p = hcw.propagate(&x0, t);

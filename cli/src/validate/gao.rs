@@ -8,6 +8,7 @@
 use nalgebra::Vector3;
 
 use crate::validate::{Check, Report, ValidateError, Verdict};
+use satflock::dynamics::{ForceSet, PhysicalProperties};
 use satflock::guidance::bifurcating::{BifurcatingParameters, ShapeError};
 use satflock::guidance::LawConfig;
 use satflock::integrate::{IntegratorMethod, Tolerances};
@@ -262,7 +263,8 @@ pub fn table5_centre_errors(gravity: GravityModel) -> Result<Vec<(f64, f64, f64)
     );
     let settings = PropagationSettings {
         earth,
-        gravity,
+        forces: std::sync::Arc::new(ForceSet::gravity(gravity, earth)),
+        properties: PhysicalProperties::point_mass(1.0),
         integrator: IntegratorMethod::Rk78,
         step_s: 60.0,
         tolerances: Tolerances {

@@ -4,6 +4,7 @@
 
 use thiserror::Error;
 
+use crate::dynamics::PhysicalProperties;
 use crate::environment::{Obstacle, Threat};
 use crate::integrate::{IntegrateError, IntegratorMethod, Tolerances};
 use crate::metrics::FiveElements;
@@ -71,6 +72,9 @@ pub struct SimulationConfig {
     pub origin: Origin,
     /// Reference orbit at t = 0, ECI.
     pub reference: CartesianState,
+    /// Physical properties of the virtual reference orbit, for the force models that read them (drag,
+    /// SRP; the scenario layer's default is the swarm's mean). A member origin uses its own.
+    pub reference_properties: PhysicalProperties,
     /// Mean motion of the reference orbit \[rad/s\], given to laws.
     pub mean_motion_rad_s: f64,
     /// Length of the run \[s\].
@@ -108,8 +112,8 @@ impl SimulationConfig {
 pub struct SatelliteInit {
     /// State relative to the reference orbit at t = 0, Hill frame \[m, m/s\].
     pub relative_state: RelativeStateHill,
-    /// Mass \[kg\].
-    pub mass_kg: f64,
+    /// Mass, drag and SRP areas and coefficients.
+    pub properties: PhysicalProperties,
     /// Physical radius \[m\] (collision counting and d_min).
     pub radius_m: f64,
     /// Thrusters.
@@ -128,6 +132,14 @@ pub enum Divergence {
         /// The bound, `dynamics.max_distance_m` \[m\].
         limit_m: f64,
     },
+    /// The satellite's density altitude fell below the atmosphere model's floor (re-entry: the drag
+    /// model no longer applies).
+    BelowAtmosphere {
+        /// Its density altitude \[m\].
+        altitude_m: f64,
+        /// The atmosphere's floor \[m\].
+        floor_m: f64,
+    },
 }
 
 impl std::fmt::Display for Divergence {
@@ -140,6 +152,16 @@ impl std::fmt::Display for Divergence {
             } => write!(
                 f,
                 "{distance_m:.3} m from the LVLH origin, beyond the allowed {limit_m} m"
+            ),
+            Divergence::BelowAtmosphere {
+                altitude_m,
+                floor_m,
+            } => write!(
+                f,
+                "density altitude {:.3} km is below the atmosphere model's floor of {:.1} km \
+                 (re-entry: drag no longer applies)",
+                altitude_m / 1e3,
+                floor_m / 1e3
             ),
         }
     }
@@ -245,6 +267,17 @@ pub enum SimError {
         /// The dynamics model.
         dynamics: &'static str,
     },
+    /// The inertial force set was built for other Earth constants than the simulation's.
+    #[error(
+        "the force set's Earth constants (mu = {forces_mu_m3_s2} m^3/s^2) are not the simulation's \
+         (mu = {config_mu_m3_s2} m^3/s^2): build both from the same EarthModel"
+    )]
+    ForcesEarth {
+        /// The force set's mu \[m^3/s^2\].
+        forces_mu_m3_s2: f64,
+        /// The configuration's mu \[m^3/s^2\].
+        config_mu_m3_s2: f64,
+    },
     /// A satellite's state became non-finite or left the allowed distance from the LVLH origin.
     #[error("satellite {satellite} diverged at t = {time_s} s: {reason}")]
     Diverged {
@@ -288,6 +321,7 @@ impl SimError {
                 | SimError::StepTooLong { .. }
                 | SimError::CommandKindMismatch { .. }
                 | SimError::ProcessNoise { .. }
+                | SimError::ForcesEarth { .. }
         )
     }
 }

@@ -35,6 +35,7 @@ mod config;
 mod monitors;
 mod propagation;
 mod resort;
+mod satellites;
 mod scheduler;
 mod sensing;
 mod snapshots;
@@ -52,17 +53,18 @@ pub use config::{
 
 use crate::environment::ApproachMonitor;
 use crate::integrate::Stepper;
-use crate::orbit::{CartesianState, GravityModel, LvlhFrame, RelativeStateHill};
+use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::relative::SchweighartSedwick;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::events::{Event, EventAction, Selection};
 use crate::swarm::law::{GuidanceLaw, Law, SwarmView};
 use crate::swarm::state::SwarmState;
-use crate::swarm::storage_order::{Placement, StorageOrder};
+use crate::swarm::storage_order::Placement;
 use monitors::LiveMetrics;
 use propagation::{SampledBuffers, StageScratch};
 use resort::RESORT_PERIOD_TICKS;
-use sensing::{Fleet, FleetById, Plant, Sensed};
+use satellites::Satellites;
+use sensing::{FleetById, Plant, Sensed};
 
 /// How a segment's integration is done: the coupled system (continuous) or satellites alone (sampled).
 /// Only the buffers of the chosen mode are allocated.
@@ -101,6 +103,9 @@ pub struct StageTimings {
     pub monitors_s: f64,
     /// Snapshots handed to the recorder (metrics, five elements, law metrics and outputs) \[s\].
     pub recording_s: f64,
+    /// How the satellites were propagated: the fused kernel and the force set it covers, the generic
+    /// per-satellite stepper, or the coupled swarm ODE (continuous control).
+    pub propagation_path: &'static str,
 }
 
 impl StageTimings {
@@ -116,14 +121,13 @@ pub struct Simulation {
     config: SimulationConfig,
     state: SwarmState,
     time_s: f64,
-    fleet: Fleet,
+    /// The per-satellite table: fleet, truth relative states, applied and held commands.
+    satellites: Satellites,
     law: Law,
     /// Pending events, latest first (popped from the back).
     events: Vec<Event>,
     /// Per threat: whether a ground warning about it is in force.
     threat_warnings: Vec<bool>,
-    /// Truth relative states at `time_s`, Hill frame (refreshed after every segment).
-    truth: Vec<RelativeStateHill>,
     /// Truth relative states at the start of the last segment (for the continuous monitors of threats
     /// and obstacles; empty in a scenario without either).
     truth_previous: Vec<RelativeStateHill>,
@@ -138,10 +142,6 @@ pub struct Simulation {
     live: LiveMetrics,
     integration: Integration,
     reference_stepper: Stepper,
-    /// Applied command of the tick, Hill frame (acceleration \[m/s^2\], or velocity \[m/s\] kinematic).
-    applied_hill: Vec<Vector3<f64>>,
-    /// Held command in the dynamics frame (ECI or Hill), sampled mode, process noise included.
-    held_control: Vec<Vector3<f64>>,
     /// Ticks started so far (the index of the next tick).
     tick: u64,
     /// Ticks between re-sorts of the storage order (0: never; sampled control only).
@@ -212,11 +212,22 @@ impl Simulation {
 
         let mut state = SwarmState::zeros(n);
         state.set_reference(&config.reference.position_m, &config.reference.velocity_mps);
+        if let Some(forces) = config.dynamics.forces() {
+            if forces.earth() != config.earth {
+                return Err(SimError::ForcesEarth {
+                    forces_mu_m3_s2: forces.earth().mu_m3_s2,
+                    config_mu_m3_s2: config.earth.mu_m3_s2,
+                });
+            }
+        }
         let reference_frame = {
-            let accel = config
-                .dynamics
-                .reference_gravity()
-                .acceleration_m_s2(&config.earth, &config.reference.position_m);
+            let accel = config.dynamics.reference_acceleration_m_s2(
+                &config.earth,
+                0.0,
+                &config.reference.position_m,
+                &config.reference.velocity_mps,
+                &config.reference_properties,
+            );
             LvlhFrame::from_reference_with_acceleration(&config.reference, &accel)
         };
         for (i, sat) in satellites.iter().enumerate() {
@@ -243,23 +254,16 @@ impl Simulation {
                 scratch: Box::new(Mutex::new(StageScratch::new(n))),
             },
             ControlTiming::Sampled { .. } => Integration::Sampled(SampledBuffers::new(
-                config.dynamics,
-                &config.earth,
+                &config.dynamics,
                 config.integrator,
                 config.tolerances,
                 config.step_s,
                 n,
             )),
         };
-        let fleet = Fleet {
-            masses_kg: satellites.iter().map(|s| s.mass_kg).collect(),
-            radii_m: satellites.iter().map(|s| s.radius_m).collect(),
-            actuators: satellites.iter().map(|s| s.actuator).collect(),
-            active: vec![true; n],
-            links_up: vec![true; n],
-            order: StorageOrder::identity(n),
-        };
-        let min_mass = fleet
+        let satellites_table = Satellites::new(satellites);
+        let min_mass = satellites_table
+            .fleet
             .masses_kg
             .iter()
             .copied()
@@ -270,11 +274,10 @@ impl Simulation {
             integration,
             state,
             time_s: 0.0,
-            fleet,
+            satellites: satellites_table,
             law,
             events,
             threat_warnings: vec![false; config.threats.len()],
-            truth: vec![RelativeStateHill::default(); n],
             // Buffers a scenario's features need, and only then (a million satellites: 120 bytes each).
             truth_previous: if config.threats.is_empty() && config.obstacles.is_empty() {
                 Vec::new()
@@ -293,8 +296,6 @@ impl Simulation {
             },
             sensed: Sensed::new(n),
             live: LiveMetrics::new(n),
-            applied_hill: vec![Vector3::zeros(); n],
-            held_control: vec![Vector3::zeros(); n],
             tick: 0,
             resort_period_ticks: RESORT_PERIOD_TICKS,
             step_count: 0,
@@ -333,7 +334,7 @@ impl Simulation {
     /// Current state (reference, satellites by id and delta-v ledgers in one flat buffer; a copy).
     pub fn state(&self) -> SwarmState {
         let mut by_id = self.state.clone();
-        let order = &self.fleet.order;
+        let order = &self.satellites.fleet.order;
         if order.placement().is_none() {
             return by_id;
         }
@@ -362,17 +363,20 @@ impl Simulation {
 
     /// Which satellites are live, by id.
     pub fn active(&self) -> Vec<bool> {
-        self.fleet.order.by_id(&self.fleet.active)
+        self.satellites
+            .fleet
+            .order
+            .by_id(&self.satellites.fleet.active)
     }
 
     /// Every satellite's truth state now, by id, relative to the LVLH origin, Hill frame \[m, m/s\].
     pub fn states_hill(&self) -> Vec<RelativeStateHill> {
-        self.fleet.order.by_id(&self.truth)
+        self.satellites.fleet.order.by_id(&self.satellites.truth)
     }
 
     /// Every satellite's inertial state now, by id, ECI (the engine's inertial frame) \[m, m/s\].
     pub fn states_eci(&self) -> Vec<CartesianState> {
-        snapshots::inertial_states(&self.config, &self.state, &self.fleet.order)
+        snapshots::inertial_states(&self.config, &self.state, &self.satellites.fleet.order)
     }
 
     /// The Schweighart–Sedwick model of the reference orbit at t = 0 that laws get
@@ -388,7 +392,8 @@ impl Simulation {
 
     /// Every satellite's state of the running law now, by id, if the law is of type `L`.
     pub fn law_states<L: GuidanceLaw>(&self) -> Option<Vec<L::State>> {
-        self.law.states_by_id::<L>(self.fleet.order.placement())
+        self.law
+            .states_by_id::<L>(self.satellites.fleet.order.placement())
     }
 
     /// Every satellite's per-satellite law outputs now, by id and satellite-major (satellite i's at
@@ -396,7 +401,7 @@ impl Simulation {
     pub fn law_outputs(&self) -> Vec<f64> {
         let mut values = vec![0.0; self.law.output_names().len() * self.state.n()];
         self.law
-            .write_outputs(&mut values, self.fleet.order.placement());
+            .write_outputs(&mut values, self.satellites.fleet.order.placement());
         values
     }
 
@@ -415,20 +420,30 @@ impl Simulation {
         &self.totals
     }
 
-    /// Wall-clock time spent in each stage of the engine so far.
+    /// Wall-clock time spent in each stage of the engine so far, and the propagation path taken.
     pub fn stage_timings(&self) -> StageTimings {
-        self.timings
+        StageTimings {
+            propagation_path: match &self.integration {
+                Integration::Coupled { .. } => "coupled swarm ODE (continuous control)",
+                Integration::Sampled(buffers) => buffers.path_name(),
+            },
+            ..self.timings
+        }
     }
 
     /// Recomputes the truth relative states at the current time.
     fn refresh_truth(&mut self) {
         let plant = Plant::new(
             &self.config,
-            &self.fleet,
+            &self.satellites.fleet,
             &self.threat_warnings,
             self.reference_model,
         );
-        plant.truth_relative(self.state.as_slice(), &mut self.truth);
+        plant.truth_relative(
+            self.time_s,
+            self.state.as_slice(),
+            &mut self.satellites.truth,
+        );
     }
 
     /// Calls `f` with the running law and a whole-swarm view of the truth relative states now (no
@@ -439,13 +454,22 @@ impl Simulation {
     ) -> R {
         let plant = Plant::new(
             &self.config,
-            &self.fleet,
+            &self.satellites.fleet,
             &self.threat_warnings,
             self.reference_model,
         );
         let mut by_id = FleetById::default();
-        let view = plant.view_by_id(self.time_s, &self.truth, &mut self.sensed, &mut by_id);
-        f(&mut self.law, &view, self.fleet.order.placement())
+        let view = plant.view_by_id(
+            self.time_s,
+            &self.satellites.truth,
+            &mut self.sensed,
+            &mut by_id,
+        );
+        f(
+            &mut self.law,
+            &view,
+            self.satellites.fleet.order.placement(),
+        )
     }
 
     fn initialise_law(&mut self) -> Result<(), SimError> {
@@ -541,9 +565,10 @@ fn reference_model(
         Origin::Member(k) => reference_frame.from_hill(&satellites[k].relative_state),
     };
     let h = origin.specific_angular_momentum_m2_s();
-    let j2 = match config.dynamics {
-        DynamicsModel::Inertial(GravityModel::J2) | DynamicsModel::Kinematic => config.earth.j2,
-        _ => 0.0,
+    let j2 = if config.dynamics.reference_has_j2() {
+        config.earth.j2
+    } else {
+        0.0
     };
     SchweighartSedwick::new(
         origin.position_m.norm(),

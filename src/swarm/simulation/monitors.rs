@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::{Divergence, SimError, Simulation};
+use crate::swarm::state::satellite_of;
 use crate::swarm::storage_order::permute;
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
@@ -53,9 +54,9 @@ impl Simulation {
     pub(super) fn monitor(&mut self, t0_s: f64) -> Result<(), SimError> {
         self.check_divergence()?;
         let (separation, collisions) = live_separation(
-            &self.truth,
-            &self.fleet.active,
-            &self.fleet.radii_m,
+            &self.satellites.truth,
+            &self.satellites.fleet.active,
+            &self.satellites.fleet.radii_m,
             &mut self.live,
         );
         self.totals.min_separation_m = self.totals.min_separation_m.min(separation);
@@ -64,8 +65,13 @@ impl Simulation {
         if self.time_s > t0_s
             && !(self.config.threats.is_empty() && self.config.obstacles.is_empty())
         {
-            for (i, (start, end)) in self.truth_previous.iter().zip(&self.truth).enumerate() {
-                if !self.fleet.active[i] {
+            for (i, (start, end)) in self
+                .truth_previous
+                .iter()
+                .zip(&self.satellites.truth)
+                .enumerate()
+            {
+                if !self.satellites.fleet.active[i] {
                     continue;
                 }
                 // Finite states (checked above) and t1 > t0 make the segment valid.
@@ -78,7 +84,7 @@ impl Simulation {
                     end.velocity_mps,
                 ) {
                     let _ = self.approach.observe_segment(
-                        self.fleet.order.id_at(i),
+                        self.satellites.fleet.order.id_at(i),
                         &segment,
                         &self.config.threats,
                         &self.config.obstacles,
@@ -92,25 +98,35 @@ impl Simulation {
     fn check_divergence(&self) -> Result<(), SimError> {
         let bound = self.config.max_distance_m;
         let diverged = |i: usize| -> Option<Divergence> {
-            if !self.fleet.active[i] {
+            if !self.satellites.fleet.active[i] {
                 return None;
             }
-            let rel = &self.truth[i];
+            let rel = &self.satellites.truth[i];
             let finite = rel.position_m.iter().all(|v| v.is_finite())
                 && rel.velocity_mps.iter().all(|v| v.is_finite());
             if !finite {
                 return Some(Divergence::NotFinite);
             }
             let distance_m = rel.position_m.norm();
-            (distance_m > bound).then_some(Divergence::TooFar {
-                distance_m,
-                limit_m: bound,
-            })
+            if distance_m > bound {
+                return Some(Divergence::TooFar {
+                    distance_m,
+                    limit_m: bound,
+                });
+            }
+            let forces = self.config.dynamics.forces()?;
+            let (position_m, _) = satellite_of(self.state.as_slice(), self.state.n(), i);
+            forces
+                .below_floor(&position_m)
+                .map(|(altitude_m, floor_m)| Divergence::BelowAtmosphere {
+                    altitude_m,
+                    floor_m,
+                })
         };
         // Scanned in storage order; the diverged satellite with the smallest id is named, whatever the
         // storage order.
-        let order = &self.fleet.order;
-        let first = (0..self.truth.len())
+        let order = &self.satellites.fleet.order;
+        let first = (0..self.satellites.truth.len())
             .filter_map(|i| diverged(i).map(|reason| (order.id_at(i), reason)))
             .min_by_key(|(id, _)| *id);
         match first {

@@ -13,6 +13,7 @@ use crate::integrate::{
 use crate::orbit::RelativeStateHill;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::Law;
+use crate::swarm::simulation::satellites::Fleet;
 use crate::swarm::simulation::scheduler::process_noise_of;
 use crate::swarm::simulation::sensing::{Plant, Sensed, CHUNK};
 use crate::swarm::state::{
@@ -68,14 +69,11 @@ impl OdeSystem for CoupledSwarm<'_> {
         } = &mut *guard;
         // Reference orbit: uncontrolled.
         let (rp, rv) = reference_of(state);
-        let ra = config
-            .dynamics
-            .reference_gravity()
-            .acceleration_m_s2(&config.earth, &rp);
+        let ra = plant.reference_acceleration(t_s, &rp, &rv);
         derivative[0..3].copy_from_slice(rv.as_slice());
         derivative[3..6].copy_from_slice(ra.as_slice());
 
-        let frame = plant.truth_relative(state, truth);
+        let frame = plant.truth_relative(t_s, state, truth);
         let view = plant.view(t_s, truth, self.navigation_noise, sensed);
         plant.commands(self.law, &view, self.tick, applied_hill);
         let kinematic = matches!(config.dynamics, DynamicsModel::Kinematic);
@@ -100,10 +98,11 @@ impl OdeSystem for CoupledSwarm<'_> {
                     };
                     (control, u)
                 };
+                let properties = plant.fleet.properties(i);
                 let (dp, dv) =
                     config
                         .dynamics
-                        .satellite_derivative(&config.earth, &p, &v, &control);
+                        .satellite_derivative(t_s, &p, &v, &properties, &control);
                 *d = ledger_derivative(&dp, &dv, &ledger);
             });
         scatter(per_satellite, n, derivative);
@@ -157,12 +156,16 @@ pub(super) fn gather(flat: &[f64], n: usize, per_satellite: &mut [[f64; SOLO]]) 
         });
 }
 
-/// What sampled propagation needs: for RK4 under inertial dynamics the fused kernel, which steps the
-/// component-major state in place; otherwise one stepper per chunk of satellites, the gathered blocks,
-/// and each satellite's own remembered step size (adaptive methods), so that satellites sharing a
-/// stepper stay independent of each other.
+/// What sampled propagation needs: for RK4 under an inertial force set the fused kernel covers
+/// ([`crate::dynamics::FastForces`]), the kernel, which steps the component-major state in place (with
+/// each satellite's `C_d A / m` gathered per segment when it computes drag); otherwise one stepper per
+/// chunk of satellites, the gathered blocks, and each satellite's own remembered step size (adaptive
+/// methods), so that satellites sharing a stepper stay independent of each other.
 pub(super) enum SampledBuffers {
-    Fused(FusedRk4),
+    Fused {
+        kernel: FusedRk4,
+        drag_area_per_mass_m2_per_kg: Vec<f64>,
+    },
     Generic {
         steppers: Vec<Stepper>,
         per_satellite: Vec<[f64; SOLO]>,
@@ -173,16 +176,24 @@ pub(super) enum SampledBuffers {
 impl SampledBuffers {
     /// The buffers for `n` satellites under `dynamics` with `integrator`.
     pub fn new(
-        dynamics: DynamicsModel,
-        earth: &crate::orbit::EarthModel,
+        dynamics: &DynamicsModel,
         integrator: IntegratorMethod,
         tolerances: Tolerances,
         step_s: f64,
         n: usize,
     ) -> Self {
-        match (dynamics, integrator) {
-            (DynamicsModel::Inertial(gravity), IntegratorMethod::Rk4) => {
-                SampledBuffers::Fused(FusedRk4::new(gravity, *earth))
+        let fast = dynamics.forces().and_then(|f| f.fast_forces());
+        match (fast, integrator) {
+            (Some(forces), IntegratorMethod::Rk4) => {
+                let kernel = FusedRk4::for_forces(forces);
+                SampledBuffers::Fused {
+                    drag_area_per_mass_m2_per_kg: if kernel.has_drag() {
+                        vec![0.0; n]
+                    } else {
+                        Vec::new()
+                    },
+                    kernel,
+                }
             }
             _ => SampledBuffers::Generic {
                 steppers: (0..n.div_ceil(CHUNK))
@@ -193,91 +204,140 @@ impl SampledBuffers {
             },
         }
     }
+
+    /// The propagation path taken, as `summary.json` `timing` names it.
+    pub fn path_name(&self) -> &'static str {
+        match self {
+            SampledBuffers::Fused { kernel, .. } if kernel.has_drag() => {
+                "fused RK4 kernel (gravity + exponential drag)"
+            }
+            SampledBuffers::Fused { .. } => "fused RK4 kernel (gravity)",
+            SampledBuffers::Generic { .. } => "generic per-satellite stepper",
+        }
+    }
 }
 
-/// Propagates every live satellite alone from `t0_s` to `t1_s` under its held command: `held` in the
-/// dynamics frame (ECI for inertial truth, Hill for the linear and kinematic models), `held_hill` (the
-/// Hill command the delta-v ledger integrates, constant over the period; ignored by the kinematic
-/// model, whose ledger stays zero).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn advance_sampled(
-    dynamics: DynamicsModel,
-    earth: &crate::orbit::EarthModel,
-    active: &[bool],
-    held: &[Vector3<f64>],
-    held_hill: &[Vector3<f64>],
-    kinematic: bool,
-    buffers: &mut SampledBuffers,
-    data: &mut [f64],
-    n: usize,
-    t0_s: f64,
-    t1_s: f64,
-    max_step_s: f64,
-) -> Result<(), IntegrateError> {
-    let (steppers, per_satellite, step_guesses_s) = match buffers {
-        SampledBuffers::Fused(kernel) => {
-            let inputs = SegmentInputs {
-                control_eci_m_s2: Some(held),
-                ledger_command_hill_m_s2: Some(held_hill),
-                active: Some(active),
-            };
-            let body = &mut data[satellite_index(n, 0, 0)..];
-            return Ok(kernel.advance(body, n, &inputs, t0_s, t1_s, max_step_s)?);
-        }
-        SampledBuffers::Generic {
-            steppers,
-            per_satellite,
-            step_guesses_s,
-        } => (steppers, per_satellite, step_guesses_s),
-    };
-    gather(data, n, per_satellite);
-    per_satellite
-        .par_chunks_mut(CHUNK)
-        .zip(step_guesses_s.par_chunks_mut(CHUNK))
-        .zip(steppers.par_iter_mut())
-        .enumerate()
-        .try_for_each(
-            |(c, ((blocks, guesses), stepper))| -> Result<(), IntegrateError> {
-                for (offset, (block, guess)) in
-                    blocks.iter_mut().zip(guesses.iter_mut()).enumerate()
-                {
-                    let i = c * CHUNK + offset;
-                    if !active[i] {
-                        continue;
-                    }
-                    let control = held[i];
-                    let u = if kinematic {
-                        Vector3::zeros()
-                    } else {
-                        held_hill[i]
-                    };
-                    let hill = [u.x.abs(), u.y.abs(), u.z.abs(), u.norm()];
-                    let rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
-                        let p = Vector3::new(y[0], y[1], y[2]);
-                        let v = Vector3::new(y[3], y[4], y[5]);
-                        let (dp, dv) = dynamics.satellite_derivative(earth, &p, &v, &control);
-                        dy[0..3].copy_from_slice(dp.as_slice());
-                        dy[3..6].copy_from_slice(dv.as_slice());
-                        dy[6..10].copy_from_slice(&hill);
-                    };
-                    stepper.set_step_guess_s(*guess);
-                    stepper.advance(&rhs, t0_s, t1_s, block, max_step_s)?;
-                    *guess = stepper.step_guess_s();
+/// One sampled segment: every live satellite alone from `t0_s` to `t1_s` under its held command.
+pub(super) struct SampledSegment<'a> {
+    pub dynamics: &'a DynamicsModel,
+    pub fleet: &'a Fleet,
+    /// The held command in the dynamics frame (ECI for inertial truth, Hill for the linear and
+    /// kinematic models).
+    pub held: &'a [Vector3<f64>],
+    /// The Hill command the delta-v ledger integrates, constant over the period (ignored by the
+    /// kinematic model, whose ledger stays zero).
+    pub held_hill: &'a [Vector3<f64>],
+    pub t0_s: f64,
+    pub t1_s: f64,
+    pub max_step_s: f64,
+}
+
+impl SampledSegment<'_> {
+    /// Propagates the segment on the flat state `data` of `n` satellites.
+    pub fn advance(
+        &self,
+        buffers: &mut SampledBuffers,
+        data: &mut [f64],
+        n: usize,
+    ) -> Result<(), IntegrateError> {
+        let Self {
+            dynamics,
+            fleet,
+            held,
+            held_hill,
+            t0_s,
+            t1_s,
+            max_step_s,
+        } = *self;
+        let active = &fleet.active[..];
+        let (steppers, per_satellite, step_guesses_s) = match buffers {
+            SampledBuffers::Fused {
+                kernel,
+                drag_area_per_mass_m2_per_kg,
+            } => {
+                if kernel.has_drag() {
+                    drag_area_per_mass_m2_per_kg
+                        .par_iter_mut()
+                        .with_min_len(CHUNK)
+                        .enumerate()
+                        .for_each(|(i, b)| {
+                            *b = fleet.properties(i).drag_area_per_mass_m2_per_kg();
+                        });
                 }
-                Ok(())
-            },
-        )?;
-    scatter(per_satellite, n, data);
-    Ok(())
+                let inputs = SegmentInputs {
+                    control_eci_m_s2: Some(held),
+                    ledger_command_hill_m_s2: Some(held_hill),
+                    active: Some(active),
+                    drag_area_per_mass_m2_per_kg: kernel
+                        .has_drag()
+                        .then_some(&drag_area_per_mass_m2_per_kg[..]),
+                };
+                let body = &mut data[satellite_index(n, 0, 0)..];
+                return Ok(kernel.advance(body, n, &inputs, t0_s, t1_s, max_step_s)?);
+            }
+            SampledBuffers::Generic {
+                steppers,
+                per_satellite,
+                step_guesses_s,
+            } => (steppers, per_satellite, step_guesses_s),
+        };
+        let kinematic = matches!(dynamics, DynamicsModel::Kinematic);
+        gather(data, n, per_satellite);
+        per_satellite
+            .par_chunks_mut(CHUNK)
+            .zip(step_guesses_s.par_chunks_mut(CHUNK))
+            .zip(steppers.par_iter_mut())
+            .enumerate()
+            .try_for_each(
+                |(c, ((blocks, guesses), stepper))| -> Result<(), IntegrateError> {
+                    for (offset, (block, guess)) in
+                        blocks.iter_mut().zip(guesses.iter_mut()).enumerate()
+                    {
+                        let i = c * CHUNK + offset;
+                        if !active[i] {
+                            continue;
+                        }
+                        let control = held[i];
+                        let properties = fleet.properties(i);
+                        let u = if kinematic {
+                            Vector3::zeros()
+                        } else {
+                            held_hill[i]
+                        };
+                        let hill = [u.x.abs(), u.y.abs(), u.z.abs(), u.norm()];
+                        let rhs = |t: f64, y: &[f64], dy: &mut [f64]| {
+                            let p = Vector3::new(y[0], y[1], y[2]);
+                            let v = Vector3::new(y[3], y[4], y[5]);
+                            let (dp, dv) =
+                                dynamics.satellite_derivative(t, &p, &v, &properties, &control);
+                            dy[0..3].copy_from_slice(dp.as_slice());
+                            dy[3..6].copy_from_slice(dv.as_slice());
+                            dy[6..10].copy_from_slice(&hill);
+                        };
+                        stepper.set_step_guess_s(*guess);
+                        stepper.advance(&rhs, t0_s, t1_s, block, max_step_s)?;
+                        *guess = stepper.step_guess_s();
+                    }
+                    Ok(())
+                },
+            )?;
+        scatter(per_satellite, n, data);
+        Ok(())
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::{ForceSet, ForcesConfig, PhysicalProperties};
     use crate::orbit::{EarthModel, GravityModel};
+    use crate::swarm::simulation::satellites::Surfaces;
+    use crate::swarm::storage_order::StorageOrder;
+    use crate::swarm::Actuator;
 
     /// The fused kernel and the generic per-satellite RK4 give the same bits on the engine's layout,
-    /// with commands, ledger and inactive satellites, for 1 and 2 threads.
+    /// with commands, ledger and inactive satellites, for 1 and 2 threads, under gravity alone and
+    /// with exponential drag (co-rotating or not; satellites of different ballistic coefficients).
     #[test]
     fn fused_sampled_path_equals_the_generic_one() {
         let earth = EarthModel::WGS84_EGM96;
@@ -310,18 +370,52 @@ mod tests {
             .collect();
         let held_hill: Vec<Vector3<f64>> =
             held.iter().map(|u| Vector3::new(u.z, -u.x, u.y)).collect();
-        for gravity in [GravityModel::J2, GravityModel::TwoBody] {
-            let dynamics = DynamicsModel::Inertial(gravity);
+        let properties: Vec<PhysicalProperties> = (0..n)
+            .map(|i| PhysicalProperties {
+                mass_kg: 4.0 + (i % 7) as f64,
+                drag_area_m2: 0.01 + 0.003 * (i % 11) as f64,
+                drag_coefficient: 2.2,
+                srp_area_m2: 0.0,
+                reflectivity_coefficient: 0.0,
+            })
+            .collect();
+        let fleet = Fleet {
+            masses_kg: properties.iter().map(|p| p.mass_kg).collect(),
+            surfaces: properties.iter().map(Surfaces::of).collect(),
+            radii_m: vec![0.0; n],
+            actuators: vec![Actuator::new(f64::INFINITY, crate::swarm::LimitKind::Norm); n],
+            active,
+            links_up: vec![true; n],
+            order: StorageOrder::identity(n),
+        };
+        let epoch = crate::time::parse_epoch_utc("2026-03-20T12:00:00Z").unwrap();
+        let drag = |corotation: bool| {
+            let text = format!(
+                "[drag]\natmosphere = \"exponential\"\nreference_density_kg_per_m3 = 3.725e-12\n\
+                 reference_altitude_m = 400e3\nscale_height_m = 58515.0\ncorotation = {corotation}\n"
+            );
+            let config: ForcesConfig = toml::from_str(&text).unwrap();
+            DynamicsModel::Inertial(std::sync::Arc::new(
+                ForceSet::from_config(&config, &earth, epoch).unwrap(),
+            ))
+        };
+        let models = [
+            DynamicsModel::inertial(GravityModel::J2, earth),
+            DynamicsModel::inertial(GravityModel::TwoBody, earth),
+            drag(true),
+            drag(false),
+        ];
+        for dynamics in &models {
+            let name = dynamics.forces().unwrap().summary().models.join(" + ");
             let run = |fused: bool, threads: usize| {
                 let mut buffers = SampledBuffers::new(
                     dynamics,
-                    &earth,
                     IntegratorMethod::Rk4,
                     Tolerances::default(),
                     1.0,
                     n,
                 );
-                assert!(matches!(buffers, SampledBuffers::Fused(_)));
+                assert!(matches!(buffers, SampledBuffers::Fused { .. }));
                 if !fused {
                     buffers = SampledBuffers::Generic {
                         steppers: (0..n.div_ceil(CHUNK))
@@ -343,23 +437,17 @@ mod tests {
                     .num_threads(threads)
                     .build()
                     .unwrap();
-                pool.install(|| {
-                    advance_sampled(
-                        dynamics,
-                        &earth,
-                        &active,
-                        &held,
-                        &held_hill,
-                        false,
-                        &mut buffers,
-                        &mut state,
-                        n,
-                        2.0,
-                        32.5,
-                        1.0,
-                    )
-                })
-                .unwrap();
+                let segment = SampledSegment {
+                    dynamics,
+                    fleet: &fleet,
+                    held: &held,
+                    held_hill: &held_hill,
+                    t0_s: 2.0,
+                    t1_s: 32.5,
+                    max_step_s: 1.0,
+                };
+                pool.install(|| segment.advance(&mut buffers, &mut state, n))
+                    .unwrap();
                 state
             };
             let generic = run(false, 1);
@@ -367,11 +455,7 @@ mod tests {
             for threads in [1, 2] {
                 let fused = run(true, threads);
                 for (i, (a, b)) in fused.iter().zip(&generic).enumerate() {
-                    assert_eq!(
-                        a.to_bits(),
-                        b.to_bits(),
-                        "{gravity}: element {i}: {a} != {b}"
-                    );
+                    assert_eq!(a.to_bits(), b.to_bits(), "{name}: element {i}: {a} != {b}");
                 }
             }
         }

@@ -27,9 +27,12 @@ impl Simulation {
         {
             return;
         }
-        let ranks = self.fleet.order.ranks();
+        let ranks = self.satellites.fleet.order.ranks();
         let range_m = self.config.sensing.range_m;
-        let Some(cells) = self.sensed.grid_over(&self.truth, range_m, ranks) else {
+        let Some(cells) = self
+            .sensed
+            .grid_over(&self.satellites.truth, range_m, ranks)
+        else {
             return; // a non-finite position: the divergence check stops the run
         };
         let moves = cells.to_vec();
@@ -40,16 +43,7 @@ impl Simulation {
         for component in self.state.satellite_components_mut() {
             permute(component, &moves, &mut visited);
         }
-        let fleet = &mut self.fleet;
-        permute(&mut fleet.masses_kg, &moves, &mut visited);
-        permute(&mut fleet.radii_m, &moves, &mut visited);
-        permute(&mut fleet.actuators, &moves, &mut visited);
-        permute(&mut fleet.active, &moves, &mut visited);
-        permute(&mut fleet.links_up, &moves, &mut visited);
-        fleet.order.apply(&moves, &mut visited);
-        permute(&mut self.truth, &moves, &mut visited);
-        permute(&mut self.applied_hill, &moves, &mut visited);
-        permute(&mut self.held_control, &moves, &mut visited);
+        self.satellites.permute(&moves, &mut visited);
         if let Some(guesses) = self.integration.step_guesses_s() {
             permute(guesses, &moves, &mut visited);
         }
@@ -119,7 +113,7 @@ mod tests {
         sim.resort_period_ticks = period;
         let mut capture = Capture::default();
         sim.advance_to(until_s, &mut capture).unwrap();
-        let shuffled = sim.fleet.order.ranks().is_some();
+        let shuffled = sim.satellites.fleet.order.ranks().is_some();
         let state: Vec<u64> = sim.state().as_slice().iter().map(|v| v.to_bits()).collect();
         let outputs: Vec<u64> = sim.law_outputs().iter().map(|v| v.to_bits()).collect();
         let results = sim.law_results();

@@ -14,7 +14,7 @@ use crate::orbit::LvlhFrame;
 use crate::random::{Purpose, RandomStream};
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::recorder::Recorder;
-use crate::swarm::simulation::propagation::{advance_sampled, CoupledSwarm};
+use crate::swarm::simulation::propagation::{CoupledSwarm, SampledSegment};
 use crate::swarm::simulation::sensing::{Plant, CHUNK};
 use crate::swarm::simulation::{Integration, RunTotals, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::satellite_index;
@@ -128,12 +128,12 @@ impl Simulation {
         }
         let clock = Instant::now();
         if !self.truth_previous.is_empty() {
-            self.truth_previous.copy_from_slice(&self.truth);
+            self.truth_previous.copy_from_slice(&self.satellites.truth);
         }
         let n = self.state.n();
         let plant = Plant::new(
             &self.config,
-            &self.fleet,
+            &self.satellites.fleet,
             &self.threat_warnings,
             self.reference_model,
         );
@@ -152,10 +152,12 @@ impl Simulation {
                 stepper.advance(&system, t0, t1, self.state.as_mut_slice(), config.step_s)?;
             }
             Integration::Sampled(buffers) => {
-                let gravity = config.dynamics.reference_gravity();
-                let earth = config.earth;
-                let reference_rhs = |_t: f64, y: &[f64], dy: &mut [f64]| {
-                    let a = gravity.acceleration_m_s2(&earth, &Vector3::new(y[0], y[1], y[2]));
+                let reference_rhs = |t: f64, y: &[f64], dy: &mut [f64]| {
+                    let a = plant.reference_acceleration(
+                        t,
+                        &Vector3::new(y[0], y[1], y[2]),
+                        &Vector3::new(y[3], y[4], y[5]),
+                    );
                     dy[0..3].copy_from_slice(&y[3..6]);
                     dy[3..6].copy_from_slice(a.as_slice());
                 };
@@ -167,20 +169,16 @@ impl Simulation {
                     &mut data[0..6],
                     config.step_s,
                 )?;
-                advance_sampled(
-                    config.dynamics,
-                    &config.earth,
-                    &self.fleet.active,
-                    &self.held_control,
-                    &self.applied_hill,
-                    matches!(config.dynamics, DynamicsModel::Kinematic),
-                    buffers,
-                    data,
-                    n,
-                    t0,
-                    t1,
-                    config.step_s,
-                )?;
+                SampledSegment {
+                    dynamics: &config.dynamics,
+                    fleet: &self.satellites.fleet,
+                    held: &self.satellites.held_control,
+                    held_hill: &self.satellites.applied_hill,
+                    t0_s: t0,
+                    t1_s: t1,
+                    max_step_s: config.step_s,
+                }
+                .advance(buffers, data, n)?;
             }
         }
         if matches!(self.config.dynamics, DynamicsModel::Kinematic) {
@@ -210,12 +208,12 @@ impl Simulation {
         let tick = self.tick;
         self.tick += 1;
         self.draw_noise(tick);
-        let live = self.fleet.active.iter().filter(|a| **a).count() as u64;
+        let live = self.satellites.fleet.active.iter().filter(|a| **a).count() as u64;
         self.totals.satellite_steps += live;
 
         let plant = Plant::new(
             &self.config,
-            &self.fleet,
+            &self.satellites.fleet,
             &self.threat_warnings,
             self.reference_model,
         );
@@ -228,7 +226,7 @@ impl Simulation {
         let clock = Instant::now();
         let view = plant.view(
             t0,
-            &self.truth,
+            &self.satellites.truth,
             noise_if_any(&self.config, &self.navigation_noise),
             &mut self.sensed,
         );
@@ -245,13 +243,14 @@ impl Simulation {
                 &mut self.law,
                 &view,
                 tick,
-                &mut self.held_control,
-                &mut self.applied_hill,
+                &mut self.satellites.held_control,
+                &mut self.satellites.applied_hill,
             );
         if stateful && !fused {
-            self.law.update_states(&view, &self.fleet.active, &|i| {
-                plant.context(i, t0, tick, false)
-            });
+            self.law
+                .update_states(&view, &self.satellites.fleet.active, &|i| {
+                    plant.context(i, t0, tick, false)
+                });
         }
         if commands {
             if !fused {
@@ -259,15 +258,15 @@ impl Simulation {
                     &self.law,
                     &view,
                     tick,
-                    &mut self.held_control,
-                    &mut self.applied_hill,
+                    &mut self.satellites.held_control,
+                    &mut self.satellites.applied_hill,
                 );
             }
             let frame = self
                 .config
                 .dynamics
                 .is_inertial()
-                .then(|| plant.frame(self.state.as_slice()));
+                .then(|| plant.frame(t0, self.state.as_slice()));
             self.hold_commands(frame);
         }
         self.timings.law_s += clock.elapsed().as_secs_f64();
@@ -284,9 +283,10 @@ impl Simulation {
     fn hold_commands(&mut self, frame: Option<LvlhFrame>) {
         let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
         for (i, (held, u)) in self
+            .satellites
             .held_control
             .iter_mut()
-            .zip(&self.applied_hill)
+            .zip(&self.satellites.applied_hill)
             .enumerate()
         {
             let total = if kinematic {
@@ -310,17 +310,22 @@ impl Simulation {
         self.refresh_truth();
         let plant = Plant::new(
             &self.config,
-            &self.fleet,
+            &self.satellites.fleet,
             &self.threat_warnings,
             self.reference_model,
         );
         let view = plant.view(
             t1,
-            &self.truth,
+            &self.satellites.truth,
             noise_if_any(&self.config, &self.navigation_noise),
             &mut self.sensed,
         );
-        plant.commands(&self.law, &view, self.tick - 1, &mut self.applied_hill);
+        plant.commands(
+            &self.law,
+            &view,
+            self.tick - 1,
+            &mut self.satellites.applied_hill,
+        );
         self.set_velocities_to_commands();
     }
 
@@ -329,8 +334,8 @@ impl Simulation {
     fn set_velocities_to_commands(&mut self) {
         let n = self.state.n();
         let data = self.state.as_mut_slice();
-        for (i, v) in self.applied_hill.iter().enumerate() {
-            if self.fleet.active[i] {
+        for (i, v) in self.satellites.applied_hill.iter().enumerate() {
+            if self.satellites.fleet.active[i] {
                 for k in 0..3 {
                     data[satellite_index(n, 3 + k, i)] = v[k];
                 }
@@ -343,7 +348,7 @@ impl Simulation {
     fn draw_noise(&mut self, tick: u64) {
         let sensing = self.config.sensing;
         let seed = self.config.seed;
-        let order = &self.fleet.order;
+        let order = &self.satellites.fleet.order;
         if sensing.has_navigation_noise() {
             self.navigation_noise
                 .par_iter_mut()

@@ -15,23 +15,11 @@ use crate::swarm::law::{
     TickEvaluation, OWN_BATCH,
 };
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
+use crate::swarm::simulation::satellites::Fleet;
 use crate::swarm::state::{reference_of, satellite_of};
-use crate::swarm::storage_order::{Placement, StorageOrder};
+use crate::swarm::storage_order::Placement;
 
 pub(super) use crate::swarm::CHUNK;
-
-/// Per-satellite properties that change only through events, as structure-of-arrays.
-pub(super) struct Fleet {
-    pub masses_kg: Vec<f64>,
-    pub radii_m: Vec<f64>,
-    pub actuators: Vec<Actuator>,
-    /// `false` once a satellite is removed.
-    pub active: Vec<bool>,
-    /// `false` while a satellite's links are cut.
-    pub links_up: Vec<bool>,
-    /// The storage order of these and of every per-satellite array of the simulation.
-    pub order: StorageOrder,
-}
 
 /// The fleet's flags and masses gathered into id order, for a whole-swarm view while the storage order
 /// is not the id order.
@@ -128,29 +116,57 @@ impl<'a> Plant<'a> {
         self.fleet.masses_kg.len()
     }
 
-    /// The LVLH frame of the origin for a flat state (inertial models only).
-    pub fn frame(&self, data: &[f64]) -> LvlhFrame {
+    /// The uncontrolled acceleration, ECI \[m/s^2\], of the virtual reference orbit at `position_m`,
+    /// `velocity_mps` (ECI), `t_s` after the epoch, with its own physical properties.
+    #[inline]
+    pub fn reference_acceleration(
+        &self,
+        t_s: f64,
+        position_m: &Vector3<f64>,
+        velocity_mps: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        self.config.dynamics.reference_acceleration_m_s2(
+            &self.config.earth,
+            t_s,
+            position_m,
+            velocity_mps,
+            &self.config.reference_properties,
+        )
+    }
+
+    /// The LVLH frame of the origin for a flat state at `t_s` (inertial models only): its angular
+    /// velocity from the origin's uncontrolled acceleration (a member origin with its own properties).
+    pub fn frame(&self, t_s: f64, data: &[f64]) -> LvlhFrame {
         let n = self.n();
-        let (position_m, velocity_mps) = match self.config.origin {
-            Origin::VirtualReference => reference_of(data),
-            Origin::Member(k) => satellite_of(data, n, self.fleet.order.index_of(k)),
+        let (origin, properties) = match self.config.origin {
+            Origin::VirtualReference => (reference_of(data), self.config.reference_properties),
+            Origin::Member(k) => {
+                let index = self.fleet.order.index_of(k);
+                (satellite_of(data, n, index), self.fleet.properties(index))
+            }
         };
-        let origin = CartesianState::new(position_m, velocity_mps);
-        let gravity = self.config.dynamics.reference_gravity();
-        let accel = gravity.acceleration_m_s2(&self.config.earth, &origin.position_m);
+        let origin = CartesianState::new(origin.0, origin.1);
+        let accel = self.config.dynamics.reference_acceleration_m_s2(
+            &self.config.earth,
+            t_s,
+            &origin.position_m,
+            &origin.velocity_mps,
+            &properties,
+        );
         LvlhFrame::from_reference_with_acceleration(&origin, &accel)
     }
 
-    /// Fills `relative` with every satellite's truth state relative to the origin (Hill). Returns the
-    /// LVLH frame used (inertial models only).
+    /// Fills `relative` with every satellite's truth state relative to the origin (Hill) at `t_s`.
+    /// Returns the LVLH frame used (inertial models only).
     pub fn truth_relative(
         &self,
+        t_s: f64,
         data: &[f64],
         relative: &mut [RelativeStateHill],
     ) -> Option<LvlhFrame> {
         let n = self.n();
         if self.config.dynamics.is_inertial() {
-            let frame = self.frame(data);
+            let frame = self.frame(t_s, data);
             relative
                 .par_iter_mut()
                 .with_min_len(CHUNK)
@@ -561,13 +577,13 @@ mod tests {
         let scenario = Scenario::from_toml(text, "t", Path::new(".")).unwrap();
         let prepare = || {
             let mut sim = build_simulation(&scenario).unwrap();
-            let n = sim.fleet.active.len();
+            let n = sim.satellites.fleet.active.len();
             if faults {
                 for i in (0..n).step_by(7) {
-                    sim.fleet.active[i] = false;
+                    sim.satellites.fleet.active[i] = false;
                 }
                 for i in (3..n).step_by(11) {
-                    sim.fleet.links_up[i] = false;
+                    sim.satellites.fleet.links_up[i] = false;
                 }
             }
             sim
@@ -582,21 +598,22 @@ mod tests {
         }
         let mut moved = false;
         for tick in 0..ticks {
-            let n = reference.fleet.active.len();
+            let n = reference.satellites.fleet.active.len();
             let mut expected = vec![Vector3::zeros(); n];
             {
                 let sim = &mut reference;
                 let plant = Plant::new(
                     &sim.config,
-                    &sim.fleet,
+                    &sim.satellites.fleet,
                     &sim.threat_warnings,
                     sim.reference_model,
                 );
-                let view = plant.view(sim.time_s, &sim.truth, None, &mut sim.sensed);
+                let view = plant.view(sim.time_s, &sim.satellites.truth, None, &mut sim.sensed);
                 let time_s = view.shared.time_s;
-                sim.law.update_states(&view, &sim.fleet.active, &|i| {
-                    plant.context(i, time_s, tick, false)
-                });
+                sim.law
+                    .update_states(&view, &sim.satellites.fleet.active, &|i| {
+                        plant.context(i, time_s, tick, false)
+                    });
                 let mut scratch = vec![Vector3::zeros(); n];
                 plant.commands_in_cell_order(&sim.law, &view, tick, &mut scratch, &mut expected);
             }
@@ -608,11 +625,11 @@ mod tests {
                     .unwrap();
                 let plant = Plant::new(
                     &sim.config,
-                    &sim.fleet,
+                    &sim.satellites.fleet,
                     &sim.threat_warnings,
                     sim.reference_model,
                 );
-                let view = plant.view(sim.time_s, &sim.truth, None, &mut sim.sensed);
+                let view = plant.view(sim.time_s, &sim.satellites.truth, None, &mut sim.sensed);
                 let (mut scratch, mut applied) =
                     (vec![Vector3::zeros(); n], vec![Vector3::zeros(); n]);
                 let ran = pool.install(|| {
@@ -676,18 +693,18 @@ mod tests {
                 sim.step().unwrap();
             }
             for i in (0..3000).step_by(7) {
-                sim.fleet.active[i] = false;
+                sim.satellites.fleet.active[i] = false;
             }
             for i in (3..3000).step_by(11) {
-                sim.fleet.links_up[i] = false;
+                sim.satellites.fleet.links_up[i] = false;
             }
             let plant = Plant::new(
                 &sim.config,
-                &sim.fleet,
+                &sim.satellites.fleet,
                 &sim.threat_warnings,
                 sim.reference_model,
             );
-            let view = plant.view(sim.time_s, &sim.truth, None, &mut sim.sensed);
+            let view = plant.view(sim.time_s, &sim.satellites.truth, None, &mut sim.sensed);
             let n = plant.n();
             let mut plain = vec![Vector3::zeros(); n];
             plant.commands(&sim.law, &view, 5, &mut plain);
@@ -706,7 +723,7 @@ mod tests {
                     &axis(1),
                     &axis(2),
                     sim.config.sensing.range_m,
-                    sim.fleet.order.ranks(),
+                    sim.satellites.fleet.order.ranks(),
                 )
                 .unwrap();
             let unmasked = view.with_grid(&unmasked_grid);

@@ -44,16 +44,16 @@ impl Simulation {
     pub(super) fn record(&mut self, recorder: &mut dyn Recorder) -> Result<(), SimError> {
         // Everything the recorder gets is by id (the engine's arrays are in storage order).
         let n = self.state.n();
-        let order = &self.fleet.order;
+        let order = &self.satellites.fleet.order;
         let inertial = inertial_states(&self.config, &self.state, order);
         let ledgers: Vec<([f64; 3], f64)> = (0..n)
             .map(|id| self.state.ledger(order.index_of(id)))
             .collect();
         let axes: Vec<[f64; 3]> = ledgers.iter().map(|l| l.0).collect();
         let norms: Vec<f64> = ledgers.iter().map(|l| l.1).collect();
-        let active = order.by_id(&self.fleet.active);
-        let radii_m = order.by_id(&self.fleet.radii_m);
-        let relative_states = order.by_id(&self.truth);
+        let active = order.by_id(&self.satellites.fleet.active);
+        let radii_m = order.by_id(&self.satellites.fleet.radii_m);
+        let relative_states = order.by_id(&self.satellites.truth);
         let live: Vec<usize> = (0..n).filter(|&id| active[id]).collect();
         let elements = if live.len() >= 2 {
             let positions: Vec<[f64; 3]> = live
@@ -76,9 +76,9 @@ impl Simulation {
             None
         };
         let (min_separation_m, collisions) = live_separation(
-            &self.truth,
-            &self.fleet.active,
-            &self.fleet.radii_m,
+            &self.satellites.truth,
+            &self.satellites.fleet.active,
+            &self.satellites.fleet.radii_m,
             &mut self.live,
         );
         self.totals.final_five_elements = elements;
@@ -87,14 +87,22 @@ impl Simulation {
         if !law_metrics.is_empty() {
             let plant = Plant::new(
                 &self.config,
-                &self.fleet,
+                &self.satellites.fleet,
                 &self.threat_warnings,
                 self.reference_model,
             );
             let mut by_id = FleetById::default();
-            let view = plant.view_by_id(self.time_s, &self.truth, &mut self.sensed, &mut by_id);
-            self.law
-                .record_metrics(&view, &mut law_metrics, self.fleet.order.placement());
+            let view = plant.view_by_id(
+                self.time_s,
+                &self.satellites.truth,
+                &mut self.sensed,
+                &mut by_id,
+            );
+            self.law.record_metrics(
+                &view,
+                &mut law_metrics,
+                self.satellites.fleet.order.placement(),
+            );
         }
         let law_output_names = self.law.output_names();
         let law_outputs = self.law_outputs();

@@ -30,12 +30,12 @@ impl Simulation {
                 EventAction::CutLinks(selection) => self.set_links(&selection, false),
                 EventAction::RestoreLinks(selection) => self.set_links(&selection, true),
                 EventAction::RemoveSatellite(id) => {
-                    let index = self.fleet.order.index_of(id);
-                    self.fleet.active[index] = false;
+                    let index = self.satellites.fleet.order.index_of(id);
+                    self.satellites.fleet.active[index] = false;
                 }
                 EventAction::FailThruster { satellite, axis } => {
-                    let index = self.fleet.order.index_of(satellite);
-                    let axes = &mut self.fleet.actuators[index].working_axes;
+                    let index = self.satellites.fleet.order.index_of(satellite);
+                    let axes = &mut self.satellites.fleet.actuators[index].working_axes;
                     match axis {
                         ThrustAxis::X => axes[0] = false,
                         ThrustAxis::Y => axes[1] = false,
@@ -50,8 +50,8 @@ impl Simulation {
 
     /// Sets the link flag of every satellite `selection` names to `up`.
     fn set_links(&mut self, selection: &Selection, up: bool) {
-        let order = &self.fleet.order;
-        for (index, links_up) in self.fleet.links_up.iter_mut().enumerate() {
+        let order = &self.satellites.fleet.order;
+        for (index, links_up) in self.satellites.fleet.links_up.iter_mut().enumerate() {
             if selection.contains(order.id_at(index)) {
                 *links_up = up;
             }
@@ -60,7 +60,8 @@ impl Simulation {
 
     /// Mass of the lightest satellite \[kg\] (the one with the fastest closed-loop rate).
     fn min_mass_kg(&self) -> f64 {
-        self.fleet
+        self.satellites
+            .fleet
             .masses_kg
             .iter()
             .copied()

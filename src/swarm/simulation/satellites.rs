@@ -1,0 +1,140 @@
+//! The engine's one per-satellite table ([`Satellites`]): what changes only through events (the
+//! [`Fleet`]: masses and physical properties, radii, actuators, flags, the storage order) and what the
+//! run loop rewrites (truth relative states, applied and held commands), every column in the engine's
+//! storage order, permuted as a whole by the storage re-sort ([`Satellites::permute`], whose exhaustive
+//! destructuring makes a new column fail to compile until it is permuted too). Read by id through
+//! [`Fleet::order`].
+
+use nalgebra::Vector3;
+
+use crate::dynamics::PhysicalProperties;
+use crate::orbit::RelativeStateHill;
+use crate::swarm::actuator::Actuator;
+use crate::swarm::simulation::config::SatelliteInit;
+use crate::swarm::storage_order::{permute, StorageOrder};
+
+/// Per-satellite properties that change only through events, as structure-of-arrays.
+pub(in crate::swarm::simulation) struct Fleet {
+    pub masses_kg: Vec<f64>,
+    /// What force models read besides the mass (drag and SRP areas and coefficients).
+    pub surfaces: Vec<Surfaces>,
+    pub radii_m: Vec<f64>,
+    pub actuators: Vec<Actuator>,
+    /// `false` once a satellite is removed.
+    pub active: Vec<bool>,
+    /// `false` while a satellite's links are cut.
+    pub links_up: Vec<bool>,
+    /// The storage order of these and of every per-satellite array of the simulation.
+    pub order: StorageOrder,
+}
+
+/// A satellite's physical properties besides its mass (kept apart so that the views read the masses as
+/// one slice); [`Fleet::properties`] puts them together.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(in crate::swarm::simulation) struct Surfaces {
+    drag_area_m2: f64,
+    drag_coefficient: f64,
+    srp_area_m2: f64,
+    reflectivity_coefficient: f64,
+}
+
+impl Surfaces {
+    pub fn of(p: &PhysicalProperties) -> Self {
+        Self {
+            drag_area_m2: p.drag_area_m2,
+            drag_coefficient: p.drag_coefficient,
+            srp_area_m2: p.srp_area_m2,
+            reflectivity_coefficient: p.reflectivity_coefficient,
+        }
+    }
+}
+
+impl Fleet {
+    /// The physical properties of the satellite at storage index `index`.
+    #[inline]
+    pub fn properties(&self, index: usize) -> PhysicalProperties {
+        let s = &self.surfaces[index];
+        PhysicalProperties {
+            mass_kg: self.masses_kg[index],
+            drag_area_m2: s.drag_area_m2,
+            drag_coefficient: s.drag_coefficient,
+            srp_area_m2: s.srp_area_m2,
+            reflectivity_coefficient: s.reflectivity_coefficient,
+        }
+    }
+}
+
+impl Fleet {
+    /// The fleet of `satellites` at t = 0, in id order.
+    pub fn new(satellites: &[SatelliteInit]) -> Self {
+        let n = satellites.len();
+        Self {
+            masses_kg: satellites.iter().map(|s| s.properties.mass_kg).collect(),
+            surfaces: satellites
+                .iter()
+                .map(|s| Surfaces::of(&s.properties))
+                .collect(),
+            radii_m: satellites.iter().map(|s| s.radius_m).collect(),
+            actuators: satellites.iter().map(|s| s.actuator).collect(),
+            active: vec![true; n],
+            links_up: vec![true; n],
+            order: StorageOrder::identity(n),
+        }
+    }
+}
+
+/// Every per-satellite column of the simulation that the run loop owns, in storage order.
+pub(in crate::swarm::simulation) struct Satellites {
+    /// What changes only through events.
+    pub fleet: Fleet,
+    /// Truth relative states at the simulation's time, Hill frame (refreshed after every segment).
+    pub truth: Vec<RelativeStateHill>,
+    /// Applied command of the tick, Hill frame (acceleration \[m/s^2\], or velocity \[m/s\]
+    /// kinematic).
+    pub applied_hill: Vec<Vector3<f64>>,
+    /// Held command in the dynamics frame (ECI or Hill), sampled mode, process noise included.
+    pub held_control: Vec<Vector3<f64>>,
+}
+
+impl Satellites {
+    /// The table of `satellites` at t = 0 (truth computed by the caller).
+    pub fn new(satellites: &[SatelliteInit]) -> Self {
+        let n = satellites.len();
+        Self {
+            fleet: Fleet::new(satellites),
+            truth: vec![RelativeStateHill::default(); n],
+            applied_hill: vec![Vector3::zeros(); n],
+            held_control: vec![Vector3::zeros(); n],
+        }
+    }
+
+    /// Moves every column to the storage order in which new index `k` holds old index `moves[k]`.
+    pub fn permute(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+        // Exhaustive destructuring, no `..`: a column added to the table must be permuted here.
+        let Satellites {
+            fleet:
+                Fleet {
+                    masses_kg,
+                    surfaces,
+                    radii_m,
+                    actuators,
+                    active,
+                    links_up,
+                    order,
+                },
+            truth,
+            applied_hill,
+            held_control,
+        } = self;
+        permute(masses_kg, moves, visited);
+        permute(surfaces, moves, visited);
+        permute(radii_m, moves, visited);
+        permute(actuators, moves, visited);
+        permute(active, moves, visited);
+        permute(links_up, moves, visited);
+        permute(truth, moves, visited);
+        permute(applied_hill, moves, visited);
+        permute(held_control, moves, visited);
+        order.apply(moves, visited);
+    }
+}
