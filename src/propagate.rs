@@ -106,14 +106,6 @@ impl PropagationSettings {
             }
         };
         positive("duration_s", self.duration_s)?;
-        if self.forces.earth() != self.earth {
-            return Err(PropagateError::InvalidSetting {
-                setting: "mu_m3_s2",
-                value: self.forces.earth().mu_m3_s2,
-                allowed: "the force set's Earth constants equal to the settings' earth",
-            });
-        }
-        positive("mass_kg", self.properties.mass_kg)?;
         positive("mu_m3_s2", self.earth.mu_m3_s2)?;
         positive("earth_radius_m", self.earth.equatorial_radius_m)?;
         if !(self.earth.j2.is_finite() && self.earth.j2 >= 0.0) {
@@ -132,6 +124,14 @@ impl PropagationSettings {
                 setting: "rtol",
                 value: self.tolerances.relative,
                 allowed: "(0, 1)",
+            });
+        }
+        positive("mass_kg", self.properties.mass_kg)?;
+        if self.forces.earth() != self.earth {
+            return Err(PropagateError::InvalidSetting {
+                setting: "mu_m3_s2",
+                value: self.forces.earth().mu_m3_s2,
+                allowed: "the force set's Earth constants equal to the settings' earth",
             });
         }
         if self.duration_s / self.output_step_s > MAX_OUTPUTS {

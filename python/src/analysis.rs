@@ -248,7 +248,7 @@ type Propagated<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArrayDyn<f64>>);
     states_eci, duration_s, step_s, output_step_s = None, gravity = "j2", frame = "eme2000",
     reference = None, threads = None, *, integrator = "rk78", rtol = 1e-12, atol = 1e-6,
     mu_m3_s2 = None, earth_radius_m = None, j2 = None, forces = None,
-    epoch_utc = satflock::time::DEFAULT_EPOCH_UTC
+    epoch_utc = "2000-01-01T12:00:00Z"
 ))]
 #[allow(clippy::too_many_arguments)]
 pub fn propagate<'py>(

@@ -60,11 +60,13 @@ use crate::swarm::events::{Event, EventAction, Selection};
 use crate::swarm::law::{GuidanceLaw, Law, SwarmView};
 use crate::swarm::state::SwarmState;
 use crate::swarm::storage_order::Placement;
-use monitors::LiveMetrics;
+use monitors::{LiveMetrics, Monitors};
 use propagation::{SampledBuffers, StageScratch};
 use resort::RESORT_PERIOD_TICKS;
 use satellites::Satellites;
-use sensing::{FleetById, Plant, Sensed};
+use scheduler::Clock;
+use sensing::{FleetById, HeldNoise, Plant, Sensed};
+use timeline::Timeline;
 
 /// How a segment's integration is done: the coupled system (continuous) or satellites alone (sampled).
 /// Only the buffers of the chosen mode are allocated.
@@ -120,43 +122,27 @@ impl StageTimings {
 pub struct Simulation {
     config: SimulationConfig,
     state: SwarmState,
-    time_s: f64,
+    /// Where the run loop is: time, ticks, base steps, recordings.
+    clock: Clock,
     /// The per-satellite table: fleet, truth relative states, applied and held commands.
     satellites: Satellites,
     law: Law,
-    /// Pending events, latest first (popped from the back).
-    events: Vec<Event>,
-    /// Per threat: whether a ground warning about it is in force.
-    threat_warnings: Vec<bool>,
-    /// Truth relative states at the start of the last segment (for the continuous monitors of threats
-    /// and obstacles; empty in a scenario without either).
-    truth_previous: Vec<RelativeStateHill>,
-    /// Navigation noise held over the current tick: position \[m\] and velocity \[m/s\], Hill frame
-    /// (empty in a scenario without navigation noise).
-    navigation_noise: Vec<[f64; 6]>,
-    /// Process noise held over the current tick, Hill frame \[m/s^2\] (empty in a scenario without
-    /// process noise: read it through [`process_noise_of`]).
-    process_noise_hill: Vec<Vector3<f64>>,
+    /// The pending events and the ground warnings in force.
+    timeline: Timeline,
+    /// The noise held over the current tick.
+    noise: HeldNoise,
     /// The tick's sensing buffers (navigation states and grid).
     sensed: Sensed,
-    live: LiveMetrics,
+    /// The truth monitors' buffers: separation, threat approach and obstacle clearance.
+    monitors: Monitors,
     integration: Integration,
     reference_stepper: Stepper,
-    /// Ticks started so far (the index of the next tick).
-    tick: u64,
     /// Ticks between re-sorts of the storage order (0: never; sampled control only).
     resort_period_ticks: u64,
-    /// Base steps completed (the scheduler's tick grid).
-    step_count: u64,
-    /// Index of the next recording time.
-    record_count: u64,
-    /// Whether the snapshot at t = 0 has been recorded.
-    started: bool,
     /// A flag another thread (a signal handler) may set to stop the run between segments.
     cancel: Option<Arc<AtomicBool>>,
     totals: RunTotals,
     timings: StageTimings,
-    approach: ApproachMonitor,
     /// SS model of the reference orbit at t = 0, given to laws ([`crate::swarm::SharedInfo::reference_model`]).
     reference_model: SchweighartSedwick,
 }
@@ -273,34 +259,37 @@ impl Simulation {
             reference_stepper: Stepper::new(config.integrator, 6, config.tolerances, config.step_s),
             integration,
             state,
-            time_s: 0.0,
+            clock: Clock::start(),
             satellites: satellites_table,
             law,
-            events,
-            threat_warnings: vec![false; config.threats.len()],
+            timeline: Timeline {
+                events,
+                threat_warnings: vec![false; config.threats.len()],
+            },
             // Buffers a scenario's features need, and only then (a million satellites: 120 bytes each).
-            truth_previous: if config.threats.is_empty() && config.obstacles.is_empty() {
-                Vec::new()
-            } else {
-                vec![RelativeStateHill::default(); n]
-            },
-            navigation_noise: if config.sensing.has_navigation_noise() {
-                vec![[0.0; 6]; n]
-            } else {
-                Vec::new()
-            },
-            process_noise_hill: if config.process_noise_m_s2 > 0.0 {
-                vec![Vector3::zeros(); n]
-            } else {
-                Vec::new()
+            noise: HeldNoise {
+                navigation: if config.sensing.has_navigation_noise() {
+                    vec![[0.0; 6]; n]
+                } else {
+                    Vec::new()
+                },
+                process_hill: if config.process_noise_m_s2 > 0.0 {
+                    vec![Vector3::zeros(); n]
+                } else {
+                    Vec::new()
+                },
             },
             sensed: Sensed::new(n),
-            live: LiveMetrics::new(n),
-            tick: 0,
+            monitors: Monitors {
+                live: LiveMetrics::new(n),
+                approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
+                truth_previous: if config.threats.is_empty() && config.obstacles.is_empty() {
+                    Vec::new()
+                } else {
+                    vec![RelativeStateHill::default(); n]
+                },
+            },
             resort_period_ticks: RESORT_PERIOD_TICKS,
-            step_count: 0,
-            record_count: 1,
-            started: false,
             cancel: None,
             totals: RunTotals {
                 time_s: 0.0,
@@ -311,7 +300,6 @@ impl Simulation {
                 final_five_elements: None,
             },
             timings: StageTimings::default(),
-            approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
             reference_model,
             config,
         };
@@ -328,7 +316,7 @@ impl Simulation {
 
     /// Current time, seconds since the scenario start \[s\].
     pub fn time_s(&self) -> f64 {
-        self.time_s
+        self.clock.time_s
     }
 
     /// Current state (reference, satellites by id and delta-v ledgers in one flat buffer; a copy).
@@ -407,12 +395,12 @@ impl Simulation {
 
     /// Per threat: whether a ground warning about it is in force.
     pub fn threat_warnings(&self) -> &[bool] {
-        &self.threat_warnings
+        &self.timeline.threat_warnings
     }
 
     /// The continuous closest-approach and clearance monitor of the threats and obstacles.
     pub fn approach_monitor(&self) -> &ApproachMonitor {
-        &self.approach
+        &self.monitors.approach
     }
 
     /// Totals so far.
@@ -436,11 +424,11 @@ impl Simulation {
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,
-            &self.threat_warnings,
+            &self.timeline.threat_warnings,
             self.reference_model,
         );
         plant.truth_relative(
-            self.time_s,
+            self.clock.time_s,
             self.state.as_slice(),
             &mut self.satellites.truth,
         );
@@ -455,12 +443,12 @@ impl Simulation {
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,
-            &self.threat_warnings,
+            &self.timeline.threat_warnings,
             self.reference_model,
         );
         let mut by_id = FleetById::default();
         let view = plant.view_by_id(
-            self.time_s,
+            self.clock.time_s,
             &self.satellites.truth,
             &mut self.sensed,
             &mut by_id,
@@ -491,12 +479,12 @@ impl Simulation {
     fn law_names(&self, names_of: fn(&Law) -> &'static [&'static str]) -> Vec<&'static str> {
         let mut names: Vec<&'static str> = Vec::new();
         let laws =
-            std::iter::once(&self.law).chain(self.events.iter().rev().filter_map(
-                |e| match &e.action {
+            std::iter::once(&self.law).chain(self.timeline.events.iter().rev().filter_map(|e| {
+                match &e.action {
                     EventAction::SwitchLaw(law) => Some(law),
                     _ => None,
-                },
-            ));
+                }
+            }));
         for law in laws {
             for name in names_of(law) {
                 if !names.contains(name) {

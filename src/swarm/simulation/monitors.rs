@@ -13,6 +13,16 @@ use crate::swarm::simulation::{Divergence, SimError, Simulation};
 use crate::swarm::state::satellite_of;
 use crate::swarm::storage_order::permute;
 
+/// The truth monitors' own state: the live metrics' buffers, the continuous threat and obstacle
+/// monitor, and the truth at the start of the segment their Hermite paths start from.
+pub(super) struct Monitors {
+    pub live: LiveMetrics,
+    pub approach: crate::environment::ApproachMonitor,
+    /// Truth relative states at the start of the last segment (empty in a scenario without threats
+    /// or obstacles).
+    pub truth_previous: Vec<RelativeStateHill>,
+}
+
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
 pub(super) struct LiveMetrics {
     /// Storage indices of the live satellites, ascending (the separation tracker's ids).
@@ -57,15 +67,16 @@ impl Simulation {
             &self.satellites.truth,
             &self.satellites.fleet.active,
             &self.satellites.fleet.radii_m,
-            &mut self.live,
+            &mut self.monitors.live,
         );
         self.totals.min_separation_m = self.totals.min_separation_m.min(separation);
         self.totals.max_collisions = self.totals.max_collisions.max(collisions);
         self.totals.collision_pair_samples += collisions;
-        if self.time_s > t0_s
+        if self.clock.time_s > t0_s
             && !(self.config.threats.is_empty() && self.config.obstacles.is_empty())
         {
             for (i, (start, end)) in self
+                .monitors
                 .truth_previous
                 .iter()
                 .zip(&self.satellites.truth)
@@ -77,13 +88,13 @@ impl Simulation {
                 // Finite states (checked above) and t1 > t0 make the segment valid.
                 if let Ok(segment) = HermiteSegment::new(
                     t0_s,
-                    self.time_s,
+                    self.clock.time_s,
                     start.position_m,
                     start.velocity_mps,
                     end.position_m,
                     end.velocity_mps,
                 ) {
-                    let _ = self.approach.observe_segment(
+                    let _ = self.monitors.approach.observe_segment(
                         self.satellites.fleet.order.id_at(i),
                         &segment,
                         &self.config.threats,
@@ -132,7 +143,7 @@ impl Simulation {
         match first {
             Some((satellite, reason)) => Err(SimError::Diverged {
                 satellite,
-                time_s: self.time_s,
+                time_s: self.clock.time_s,
                 reason,
             }),
             None => Ok(()),

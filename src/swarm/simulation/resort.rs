@@ -49,7 +49,7 @@ impl Simulation {
         }
         self.law.permute_states(&moves, &mut visited);
         // The separation tracker's anchors are by storage index: they move too.
-        self.live.move_anchors(&moves, &mut visited);
+        self.monitors.live.move_anchors(&moves, &mut visited);
     }
 }
 

@@ -19,6 +19,35 @@ use crate::swarm::simulation::sensing::{Plant, CHUNK};
 use crate::swarm::simulation::{Integration, RunTotals, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::satellite_index;
 
+/// Where the run loop is.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Clock {
+    /// Simulated time \[s\] since the epoch.
+    pub time_s: f64,
+    /// Ticks started so far (the index of the next tick).
+    pub tick: u64,
+    /// Base steps completed (the scheduler's tick grid).
+    pub step_count: u64,
+    /// Index of the next recording time (the first, t = 0, is `started`).
+    pub record_count: u64,
+    /// Whether the snapshot at t = 0 has been recorded.
+    pub started: bool,
+}
+
+impl Clock {
+    /// At t = 0, before the first tick; the next recording after t = 0 is the first multiple of the
+    /// recording interval.
+    pub fn start() -> Self {
+        Self {
+            time_s: 0.0,
+            tick: 0,
+            step_count: 0,
+            record_count: 1,
+            started: false,
+        }
+    }
+}
+
 impl Simulation {
     /// Runs from the current time to the end of the run, recording at the cadence (and at t = 0 if not
     /// yet recorded). `progress` is called with the simulated time after every segment. On divergence
@@ -53,56 +82,62 @@ impl Simulation {
         let duration = self.config.duration_s;
         let end = time_s.min(duration);
         let eps = 1e-9 * base.max(1.0);
-        if !self.started {
-            self.started = true;
+        if !self.clock.started {
+            self.clock.started = true;
             if let Some(recorder) = recorder.as_deref_mut() {
                 let clock = Instant::now();
                 self.record(recorder)?;
                 self.timings.recording_s += clock.elapsed().as_secs_f64();
             }
         }
-        while self.time_s < end - eps {
-            let next_step = ((self.step_count + 1) as f64 * base).min(duration);
-            let next_record = (self.record_count as f64 * record).min(duration);
-            let next_event = self.events.last().map_or(f64::INFINITY, |e| e.time_s);
-            let mut t1 = next_step.min(next_record).min(next_event.max(self.time_s));
+        while self.clock.time_s < end - eps {
+            let next_step = ((self.clock.step_count + 1) as f64 * base).min(duration);
+            let next_record = (self.clock.record_count as f64 * record).min(duration);
+            let next_event = self
+                .timeline
+                .events
+                .last()
+                .map_or(f64::INFINITY, |e| e.time_s);
+            let mut t1 = next_step
+                .min(next_record)
+                .min(next_event.max(self.clock.time_s));
             if end < t1 - eps {
                 t1 = end;
             }
-            let at_tick = (self.time_s - self.step_count as f64 * base).abs() <= eps;
-            let t0 = self.time_s;
-            if t1 > self.time_s + eps {
-                self.advance_segment(self.time_s, t1, at_tick)?;
+            let at_tick = (self.clock.time_s - self.clock.step_count as f64 * base).abs() <= eps;
+            let t0 = self.clock.time_s;
+            if t1 > self.clock.time_s + eps {
+                self.advance_segment(self.clock.time_s, t1, at_tick)?;
             }
-            self.time_s = t1;
+            self.clock.time_s = t1;
             if (t1 - next_step).abs() <= eps {
-                self.step_count += 1;
+                self.clock.step_count += 1;
             }
             let clock = Instant::now();
             self.monitor(t0)?;
             self.timings.monitors_s += clock.elapsed().as_secs_f64();
             self.apply_due_events()?;
             if (t1 - next_record).abs() <= eps {
-                self.record_count += 1;
+                self.clock.record_count += 1;
                 if let Some(recorder) = recorder.as_deref_mut() {
                     let clock = Instant::now();
                     self.record(recorder)?;
                     self.timings.recording_s += clock.elapsed().as_secs_f64();
                 }
             }
-            progress(self.time_s);
+            progress(self.clock.time_s);
             if self
                 .cancel
                 .as_ref()
                 .is_some_and(|flag| flag.load(Ordering::Relaxed))
             {
-                self.totals.time_s = self.time_s;
+                self.totals.time_s = self.clock.time_s;
                 return Err(SimError::Interrupted {
-                    time_s: self.time_s,
+                    time_s: self.clock.time_s,
                 });
             }
         }
-        self.totals.time_s = self.time_s;
+        self.totals.time_s = self.clock.time_s;
         Ok(())
     }
 
@@ -118,7 +153,7 @@ impl Simulation {
     /// end of the run once it is reached): `advance_to(next_tick_s())` is [`Simulation::step`] with
     /// recording.
     pub fn next_tick_s(&self) -> f64 {
-        (self.step_count + 1) as f64 * self.config.base_step_s()
+        (self.clock.step_count + 1) as f64 * self.config.base_step_s()
     }
 
     /// Advances the state from t0 to t1 (one segment). `at_tick`: t0 is a control tick.
@@ -127,14 +162,16 @@ impl Simulation {
             self.start_tick(t0)?;
         }
         let clock = Instant::now();
-        if !self.truth_previous.is_empty() {
-            self.truth_previous.copy_from_slice(&self.satellites.truth);
+        if !self.monitors.truth_previous.is_empty() {
+            self.monitors
+                .truth_previous
+                .copy_from_slice(&self.satellites.truth);
         }
         let n = self.state.n();
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,
-            &self.threat_warnings,
+            &self.timeline.threat_warnings,
             self.reference_model,
         );
         let config = &self.config;
@@ -144,9 +181,9 @@ impl Simulation {
                 let system = CoupledSwarm {
                     plant,
                     law: &self.law,
-                    tick: self.tick - 1,
-                    navigation_noise: noise_if_any(config, &self.navigation_noise),
-                    process_noise_hill: &self.process_noise_hill,
+                    tick: self.clock.tick - 1,
+                    navigation_noise: noise_if_any(config, &self.noise.navigation),
+                    process_noise_hill: &self.noise.process_hill,
                     scratch,
                 };
                 stepper.advance(&system, t0, t1, self.state.as_mut_slice(), config.step_s)?;
@@ -198,15 +235,15 @@ impl Simulation {
     /// update on the navigation view, and in sampled mode the command held until the next tick.
     fn start_tick(&mut self, t0: f64) -> Result<(), SimError> {
         let clock = Instant::now();
-        self.resort_if_due(self.tick);
+        self.resort_if_due(self.clock.tick);
         self.timings.sensing_s += clock.elapsed().as_secs_f64();
         if self.law.centralised_due(t0) {
             let clock = Instant::now();
             self.with_truth_view(|law, view, _| law.centralised_update(view))?;
             self.timings.law_s += clock.elapsed().as_secs_f64();
         }
-        let tick = self.tick;
-        self.tick += 1;
+        let tick = self.clock.tick;
+        self.clock.tick += 1;
         self.draw_noise(tick);
         let live = self.satellites.fleet.active.iter().filter(|a| **a).count() as u64;
         self.totals.satellite_steps += live;
@@ -214,7 +251,7 @@ impl Simulation {
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,
-            &self.threat_warnings,
+            &self.timeline.threat_warnings,
             self.reference_model,
         );
         let sampled = plant.sampled();
@@ -227,7 +264,7 @@ impl Simulation {
         let view = plant.view(
             t0,
             &self.satellites.truth,
-            noise_if_any(&self.config, &self.navigation_noise),
+            noise_if_any(&self.config, &self.noise.navigation),
             &mut self.sensed,
         );
         let clock = {
@@ -292,7 +329,7 @@ impl Simulation {
             let total = if kinematic {
                 *u
             } else {
-                u + process_noise_of(&self.process_noise_hill, i)
+                u + process_noise_of(&self.noise.process_hill, i)
             };
             *held = match &frame {
                 Some(f) => f.vector_hill_to_eci(&total),
@@ -311,19 +348,19 @@ impl Simulation {
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,
-            &self.threat_warnings,
+            &self.timeline.threat_warnings,
             self.reference_model,
         );
         let view = plant.view(
             t1,
             &self.satellites.truth,
-            noise_if_any(&self.config, &self.navigation_noise),
+            noise_if_any(&self.config, &self.noise.navigation),
             &mut self.sensed,
         );
         plant.commands(
             &self.law,
             &view,
-            self.tick - 1,
+            self.clock.tick - 1,
             &mut self.satellites.applied_hill,
         );
         self.set_velocities_to_commands();
@@ -350,7 +387,8 @@ impl Simulation {
         let seed = self.config.seed;
         let order = &self.satellites.fleet.order;
         if sensing.has_navigation_noise() {
-            self.navigation_noise
+            self.noise
+                .navigation
                 .par_iter_mut()
                 .with_min_len(CHUNK)
                 .enumerate()
@@ -369,7 +407,8 @@ impl Simulation {
         }
         let sigma = self.config.process_noise_m_s2;
         if sigma > 0.0 {
-            self.process_noise_hill
+            self.noise
+                .process_hill
                 .par_iter_mut()
                 .with_min_len(CHUNK)
                 .enumerate()

@@ -21,6 +21,14 @@ use crate::swarm::storage_order::Placement;
 
 pub(super) use crate::swarm::CHUNK;
 
+/// The noise held over the current tick, Hill frame (each empty in a scenario without it).
+pub(super) struct HeldNoise {
+    /// Navigation noise: position \[m\] and velocity \[m/s\].
+    pub navigation: Vec<[f64; 6]>,
+    /// Process noise \[m/s^2\] (read it through `process_noise_of`).
+    pub process_hill: Vec<Vector3<f64>>,
+}
+
 /// The fleet's flags and masses gathered into id order, for a whole-swarm view while the storage order
 /// is not the id order.
 #[derive(Default)]
@@ -605,10 +613,15 @@ mod tests {
                 let plant = Plant::new(
                     &sim.config,
                     &sim.satellites.fleet,
-                    &sim.threat_warnings,
+                    &sim.timeline.threat_warnings,
                     sim.reference_model,
                 );
-                let view = plant.view(sim.time_s, &sim.satellites.truth, None, &mut sim.sensed);
+                let view = plant.view(
+                    sim.clock.time_s,
+                    &sim.satellites.truth,
+                    None,
+                    &mut sim.sensed,
+                );
                 let time_s = view.shared.time_s;
                 sim.law
                     .update_states(&view, &sim.satellites.fleet.active, &|i| {
@@ -626,10 +639,15 @@ mod tests {
                 let plant = Plant::new(
                     &sim.config,
                     &sim.satellites.fleet,
-                    &sim.threat_warnings,
+                    &sim.timeline.threat_warnings,
                     sim.reference_model,
                 );
-                let view = plant.view(sim.time_s, &sim.satellites.truth, None, &mut sim.sensed);
+                let view = plant.view(
+                    sim.clock.time_s,
+                    &sim.satellites.truth,
+                    None,
+                    &mut sim.sensed,
+                );
                 let (mut scratch, mut applied) =
                     (vec![Vector3::zeros(); n], vec![Vector3::zeros(); n]);
                 let ran = pool.install(|| {
@@ -701,10 +719,10 @@ mod tests {
             let plant = Plant::new(
                 &sim.config,
                 &sim.satellites.fleet,
-                &sim.threat_warnings,
+                &sim.timeline.threat_warnings,
                 sim.reference_model,
             );
-            let view = plant.view(sim.time_s, &sim.satellites.truth, None, &mut sim.sensed);
+            let view = plant.view(sim.clock.time_s, &sim.satellites.truth, None, &mut sim.sensed);
             let n = plant.n();
             let mut plain = vec![Vector3::zeros(); n];
             plant.commands(&sim.law, &view, 5, &mut plain);

@@ -69,7 +69,7 @@ impl Simulation {
                 &positions,
                 &velocities,
                 Some(&radii),
-                &mut self.live.workspace,
+                &mut self.monitors.live.workspace,
             )
             .ok()
         } else {
@@ -79,7 +79,7 @@ impl Simulation {
             &self.satellites.truth,
             &self.satellites.fleet.active,
             &self.satellites.fleet.radii_m,
-            &mut self.live,
+            &mut self.monitors.live,
         );
         self.totals.final_five_elements = elements;
         let law_metric_names = self.law.metric_names();
@@ -88,12 +88,12 @@ impl Simulation {
             let plant = Plant::new(
                 &self.config,
                 &self.satellites.fleet,
-                &self.threat_warnings,
+                &self.timeline.threat_warnings,
                 self.reference_model,
             );
             let mut by_id = FleetById::default();
             let view = plant.view_by_id(
-                self.time_s,
+                self.clock.time_s,
                 &self.satellites.truth,
                 &mut self.sensed,
                 &mut by_id,
@@ -110,18 +110,20 @@ impl Simulation {
             threats: self.config.threats.len(),
             obstacles: self.config.obstacles.len(),
             min_threat_distance_m: self
+                .monitors
                 .approach
                 .swarm_threat_minimum()
                 .map(|m| m.minimum.distance_m),
             min_obstacle_clearance_m: self
+                .monitors
                 .approach
                 .swarm_obstacle_minimum()
                 .map(|m| m.minimum.clearance_m),
-            threat_incursions: self.approach.total_threat_incursions(),
-            obstacle_incursions: self.approach.total_obstacle_incursions(),
+            threat_incursions: self.monitors.approach.total_threat_incursions(),
+            obstacle_incursions: self.monitors.approach.total_obstacle_incursions(),
         };
         let snapshot = Snapshot {
-            time_s: self.time_s,
+            time_s: self.clock.time_s,
             relative_states: &relative_states,
             inertial_states: &inertial,
             active: &active,

@@ -1,19 +1,29 @@
 //! Applying the events of the timeline that fall due: law parameters and switches, ground messages,
 //! link outages, satellite losses and thruster failures.
 
+use crate::swarm::events::Event;
 use crate::swarm::events::{EventAction, Selection, ThrustAxis};
 use crate::swarm::simulation::{check_law_fits, SimError, Simulation};
+
+/// The event timeline and what it has set in force.
+pub(super) struct Timeline {
+    /// Pending events, latest first (popped from the back).
+    pub events: Vec<Event>,
+    /// Per threat: whether a ground warning about it is in force.
+    pub threat_warnings: Vec<bool>,
+}
 
 impl Simulation {
     /// Applies every pending event whose time has come (in time order, file order for equal times).
     pub(super) fn apply_due_events(&mut self) -> Result<(), SimError> {
         let eps = 1e-9 * self.config.base_step_s().max(1.0);
         while self
+            .timeline
             .events
             .last()
-            .is_some_and(|e| e.time_s <= self.time_s + eps)
+            .is_some_and(|e| e.time_s <= self.clock.time_s + eps)
         {
-            let event = self.events.pop().expect("checked non-empty");
+            let event = self.timeline.events.pop().expect("checked non-empty");
             match event.action {
                 EventAction::SetLawParameters(parameters) => {
                     self.law.set_parameters(&parameters)?;
@@ -25,7 +35,7 @@ impl Simulation {
                     self.initialise_law()?;
                 }
                 EventAction::ThreatWarning { threat, active } => {
-                    self.threat_warnings[threat] = active;
+                    self.timeline.threat_warnings[threat] = active;
                 }
                 EventAction::CutLinks(selection) => self.set_links(&selection, false),
                 EventAction::RestoreLinks(selection) => self.set_links(&selection, true),
