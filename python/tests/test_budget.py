@@ -30,7 +30,12 @@ def test_rows_and_keys():
     b = satflock.budget(400e3, 51.6, **PAIR)
     assert list(b) == TERMS
     for term, row in b.items():
-        assert set(row) == {"acceleration_mps2", "differential_acceleration_mps2", "drift_per_orbit_m", "drift_per_day_m"}
+        assert set(row) == {
+            "acceleration_mps2",
+            "differential_acceleration_mps2",
+            "drift_per_orbit_m",
+            "drift_per_day_m",
+        }
         assert (row["acceleration_mps2"] is None) == (term == "hcw-linearisation")
         assert row["differential_acceleration_mps2"] >= 0.0
 
@@ -65,7 +70,9 @@ def test_differential_drag_is_half_rho_v2_delta_b_and_drifts_as_t_squared():
     rho = 3.725e-12 * math.exp(-20.0 / 58.515)
     v_rel = (n - OMEGA_E) * r
     delta_b = 2.2 * (3.0 - 1.0) / 100.0
-    b = satflock.budget(420e3, 0.0, atmosphere="exponential-table", mass_kg=100.0, drag_area_m2=1.0, drag_area_2_m2=3.0)
+    b = satflock.budget(
+        420e3, 0.0, atmosphere="exponential-table", mass_kg=100.0, drag_area_m2=1.0, drag_area_2_m2=3.0
+    )
     drag = b["drag"]
     want = 0.5 * rho * v_rel**2 * delta_b
     assert drag["differential_acceleration_mps2"] == pytest.approx(want, rel=1e-7)
@@ -80,7 +87,8 @@ def test_differential_drag_follows_the_ballistic_difference_in_harris_priester()
     # Same orbit, same air: |da| / |a| = |B2 - B1| / B1, whatever the density's bulge does.
     for area_2, ratio in [(2.0, 1.0), (1.25, 0.25), (0.5, 0.5)]:
         drag = satflock.budget(350e3, 97.0, mass_kg=50.0, drag_area_m2=1.0, drag_area_2_m2=area_2)["drag"]
-        assert drag["differential_acceleration_mps2"] / drag["acceleration_mps2"] == pytest.approx(ratio, rel=1e-3)
+        got = drag["differential_acceleration_mps2"] / drag["acceleration_mps2"]
+        assert got == pytest.approx(ratio, rel=1e-3)
     # The default second satellite has twice the area: the differential equals satellite 1's drag.
     drag = satflock.budget(350e3, 97.0, mass_kg=50.0, drag_area_m2=1.0)["drag"]
     assert drag["differential_acceleration_mps2"] == pytest.approx(drag["acceleration_mps2"], rel=1e-3)
@@ -89,12 +97,13 @@ def test_differential_drag_follows_the_ballistic_difference_in_harris_priester()
 def test_srp_is_the_solar_pressure_at_the_suns_distance():
     # Cannonball, always lit: P C_r A / m (au / d)^2, d from 0.983 to 1.017 au over the year (early
     # January: perihelion). The Earth's 1e-4 au offset from the Sun line is within those bounds.
-    srp = satflock.budget(700e3, 98.0, mass_kg=10.0, drag_area_m2=0.1, srp_area_m2=0.2, reflectivity_coefficient=1.3)["srp"]
+    satellite = dict(mass_kg=10.0, drag_area_m2=0.1, srp_area_m2=0.2, reflectivity_coefficient=1.3)
+    srp = satflock.budget(700e3, 98.0, **satellite)["srp"]
     base = P_SUN * 1.3 * 0.2 / 10.0
     assert base / 1.017**2 <= srp["acceleration_mps2"] <= base / 0.983**2
-    january = satflock.budget(700e3, 98.0, mass_kg=10.0, drag_area_m2=0.1, srp_area_m2=0.2, reflectivity_coefficient=1.3, epoch_utc="2026-01-03T12:00:00Z")
-    july = satflock.budget(700e3, 98.0, mass_kg=10.0, drag_area_m2=0.1, srp_area_m2=0.2, reflectivity_coefficient=1.3, epoch_utc="2026-07-04T12:00:00Z")
-    ratio = january["srp"]["acceleration_mps2"] / july["srp"]["acceleration_mps2"]
+    january = satflock.budget(700e3, 98.0, epoch_utc="2026-01-03T12:00:00Z", **satellite)["srp"]
+    july = satflock.budget(700e3, 98.0, epoch_utc="2026-07-04T12:00:00Z", **satellite)["srp"]
+    ratio = january["acceleration_mps2"] / july["acceleration_mps2"]
     assert ratio == pytest.approx((1.0167 / 0.9833) ** 2, rel=2e-3)
 
 
@@ -172,13 +181,14 @@ def test_bad_values_name_the_argument(kwargs, says):
 
 
 def test_same_numbers_as_the_command_line(satflock_bin):
-    done = subprocess.run(
-        [satflock_bin, "budget", "--altitude-km", "450", "--inclination-deg", "63.4", "--separation-m", "250", "--direction", "cross-track", "--mass-kg", "20", "--drag-area-m2", "0.2", "--epoch-utc", "2026-03-20T12:00:00Z", "--json"],
-        check=True,
-        capture_output=True,
-    )
+    # The CLI's defaults are the function's: twice the drag area for satellite 2, SRP areas = drag areas.
+    flags = "--altitude-km 450 --inclination-deg 63.4 --separation-m 250 --direction cross-track"
+    flags += " --mass-kg 20 --drag-area-m2 0.2 --epoch-utc 2026-03-20T12:00:00Z --json"
+    done = subprocess.run([satflock_bin, "budget", *flags.split()], check=True, capture_output=True)
     cli = {row["term"]: row for row in json.loads(done.stdout)["terms"]}
-    py = satflock.budget(450e3, 63.4, 250.0, "cross-track", mass_kg=20.0, drag_area_m2=0.2, epoch_utc="2026-03-20T12:00:00Z")
+    py = satflock.budget(
+        450e3, 63.4, 250.0, "cross-track", mass_kg=20.0, drag_area_m2=0.2, epoch_utc="2026-03-20T12:00:00Z"
+    )
     for term in TERMS:
         for key, value in py[term].items():
             assert value == cli[term][key], (term, key)
