@@ -20,8 +20,8 @@
 //! coefficients skipped, `y + h * ((((0.0 + b0 k1) + b1 k2) + b2 k3) + b3 k4)` for the new state, the
 //! steps split as [`Rk4::integrate`](super::Rk4::integrate) splits them) with the right-hand side of
 //! [`GravityModel::acceleration_m_s2`] (plus, with drag, [`crate::dynamics::drag_acceleration_m_s2`]
-//! at the exponential density of the height above the sphere, the exponential taken per lane with the
-//! same `f64::exp`) plus the held acceleration, summed in the order [`crate::dynamics::ForceSet`] sums
+//! at the exponential density of the height above the sphere, through the atmosphere's own
+//! vectorisable exponential) plus the held acceleration, summed in the order [`crate::dynamics::ForceSet`] sums
 //! them. Rust does not contract `a * b + c`
 //! into a fused multiply-add and no copy enables FMA, so the portable and wide copies give the same bits,
 //! which the tests check against the generic stepper. Satellites do not interact, so the result of one
@@ -36,7 +36,7 @@
 use nalgebra::Vector3;
 
 use super::rk4::{StepPlan, A, B};
-use crate::dynamics::{FastForces, EARTH_ROTATION_RAD_S};
+use crate::dynamics::{Exponential, FastForces, EARTH_ROTATION_RAD_S};
 use crate::orbit::{EarthModel, GravityModel};
 
 /// Satellites per parallel chunk: splits of the work fall on multiples of it.
@@ -197,9 +197,7 @@ impl FusedRk4 {
                 corotation,
             } => Self {
                 drag: Some(DragConstants {
-                    reference_density_kg_per_m3: atmosphere.reference_density_kg_per_m3,
-                    reference_altitude_m: atmosphere.reference_altitude_m,
-                    scale_height_m: atmosphere.scale_height_m,
+                    atmosphere,
                     radius_m: earth.equatorial_radius_m,
                     corotation,
                 }),
@@ -352,9 +350,7 @@ impl Constants {
 /// The exponential atmosphere and the co-rotation as the drag expression uses them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct DragConstants {
-    reference_density_kg_per_m3: f64,
-    reference_altitude_m: f64,
-    scale_height_m: f64,
+    atmosphere: Exponential,
     /// The sphere the height is measured above \[m\].
     radius_m: f64,
     corotation: bool,
@@ -581,16 +577,32 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: bool>(
 ) -> Vec3<L> {
     let c = f.constants;
     let mut a = [[0.0; L]; 3];
-    // The exponential density per lane: `f64::exp` has no vector form, so it is taken lane by lane
-    // (the same call as the generic path, hence the same bits).
-    let mut density = [0.0; L];
+    // Drag per lane, in loops of their own with every branch outside them (so each vectorises): the
+    // exponential density through the atmosphere's own vectorisable function (the generic path's
+    // call, hence the same bits), then the drag acceleration as `drag_acceleration_m_s2` forms it.
+    let mut drag = [[0.0; L]; 3];
     if DRAG {
         if let Some(d) = f.drag {
+            let mut density = [0.0; L];
             for l in 0..L {
                 let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
                 let altitude = (x * x + y * y + z * z).sqrt() - d.radius_m;
-                density[l] = d.reference_density_kg_per_m3
-                    * ((d.reference_altitude_m - altitude) / d.scale_height_m).exp();
+                density[l] = d.atmosphere.density_at_kg_per_m3(altitude);
+            }
+            let mut relative = *v;
+            if d.corotation {
+                for l in 0..L {
+                    relative[0][l] = v[0][l] + EARTH_ROTATION_RAD_S * p[1][l];
+                    relative[1][l] = v[1][l] - EARTH_ROTATION_RAD_S * p[0][l];
+                }
+            }
+            for l in 0..L {
+                let (vx, vy, vz) = (relative[0][l], relative[1][l], relative[2][l]);
+                let speed = (vx * vx + vy * vy + vz * vz).sqrt();
+                let k = -0.5 * density[l] * f.drag_areas[l] * speed;
+                drag[0][l] = k * vx;
+                drag[1][l] = k * vy;
+                drag[2][l] = k * vz;
             }
         }
     }
@@ -609,28 +621,15 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: bool>(
         } else {
             (-mu_over_r3, -mu_over_r3)
         };
-        let (mut ax, mut ay, mut az) = (horizontal * x, horizontal * y, vertical * z);
         if DRAG {
-            if let Some(d) = f.drag {
-                let (vx, vy, vz) = if d.corotation {
-                    (
-                        v[0][l] + EARTH_ROTATION_RAD_S * y,
-                        v[1][l] - EARTH_ROTATION_RAD_S * x,
-                        v[2][l],
-                    )
-                } else {
-                    (v[0][l], v[1][l], v[2][l])
-                };
-                let speed = (vx * vx + vy * vy + vz * vz).sqrt();
-                let k = -0.5 * density[l] * f.drag_areas[l] * speed;
-                ax += k * vx;
-                ay += k * vy;
-                az += k * vz;
-            }
+            a[0][l] = (horizontal * x + drag[0][l]) + u[0][l];
+            a[1][l] = (horizontal * y + drag[1][l]) + u[1][l];
+            a[2][l] = (vertical * z + drag[2][l]) + u[2][l];
+        } else {
+            a[0][l] = horizontal * x + u[0][l];
+            a[1][l] = horizontal * y + u[1][l];
+            a[2][l] = vertical * z + u[2][l];
         }
-        a[0][l] = ax + u[0][l];
-        a[1][l] = ay + u[1][l];
-        a[2][l] = az + u[2][l];
     }
     a
 }

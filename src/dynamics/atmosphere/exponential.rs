@@ -88,14 +88,15 @@ impl Exponential {
     }
 
     /// The density \[kg/m^3\] at `altitude_m` \[m\]:
-    /// `reference_density * ((reference_altitude - altitude) / scale_height).exp()`, in exactly this
-    /// operation order (the fused kernel's bits). Finite while `(reference_altitude - altitude) /
-    /// scale_height` is below ln(f64::MAX) ≈ 709.78, which covers every altitude down to the Earth's
-    /// centre for every allowed layer whose scale height exceeds 11.8 km; NaN for a NaN altitude.
-    #[inline]
+    /// `reference_density * exp((reference_altitude - altitude) / scale_height)` with the
+    /// vectorisable [`super::exp::exp`] (within 2 ulp of `f64::exp`), the function the fused kernel
+    /// calls per lane: both paths give the same bits. The exponent is clamped to \[−708, 709\]
+    /// (a density of 1e−308 of the reference, or e^709 of it for an altitude far below the layer);
+    /// NaN for a NaN altitude.
+    #[inline(always)]
     pub fn density_at_kg_per_m3(&self, altitude_m: f64) -> f64 {
         self.reference_density_kg_per_m3
-            * ((self.reference_altitude_m - altitude_m) / self.scale_height_m).exp()
+            * super::exp::exp((self.reference_altitude_m - altitude_m) / self.scale_height_m)
     }
 }
 

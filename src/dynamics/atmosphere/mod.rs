@@ -7,6 +7,7 @@
 //! goes below it. Below the floor each model still returns a finite density (its lowest band,
 //! extrapolated), so that an integrator stage that dips under the floor does not poison the state.
 
+mod exp;
 mod exponential;
 mod harris_priester;
 mod table;
