@@ -1,6 +1,7 @@
 //! `satflock validate core`: the core's physics against analytic references, at full length — J2
 //! secular rates over 30 days, the sun-synchronous condition, integrator accuracy over a day, HCW against
-//! the two-body truth, and the Schweighart–Sedwick drift against the J2 truth.
+//! the two-body truth, and the Schweighart–Sedwick drift against the J2 truth; then the force models
+//! (rows F1–F9, `validate::forces`).
 
 use nalgebra::{DMatrix, DVector, Vector3};
 
@@ -326,6 +327,7 @@ pub fn report() -> Result<Report, ValidateError> {
     j2_rates(&mut checks)?;
     integrators(&mut checks, &mut notes)?;
     relative_motion(&mut checks, &mut notes)?;
+    crate::validate::forces::checks(&mut checks, &mut notes)?;
     Ok(Report {
         title: "Core physics against analytic references".into(),
         reference_header: "reference".into(),

@@ -3,6 +3,7 @@
 //! and a verdict. `satflock validate TARGET` prints the report as a Markdown table for the README.
 
 pub mod core;
+mod forces;
 pub mod gao;
 pub mod pigeon;
 pub mod scatter;
