@@ -330,8 +330,8 @@ fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
     assert!(text.contains("| id | outcome | reference | ours | verdict |"));
     // one row per check C1..C8 and the force models' F1..F9, each reproduced
     for id in [
-        "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "F1", "F2", "F3a", "F3b", "F4", "F5", "F6a",
-        "F6b", "F7", "F8a", "F8b", "F9",
+        "C1", "C2", "C3", "C4", "C5", "C6", "C7", "C8", "F1", "F2", "F3a", "F3b", "F4", "F5",
+        "F6a", "F6b", "F7", "F8a", "F8b", "F9",
     ] {
         let row = text
             .lines()
