@@ -89,7 +89,7 @@ impl Exponential {
 
     /// The density \[kg/m^3\] at `altitude_m` \[m\]:
     /// `reference_density * exp((reference_altitude - altitude) / scale_height)` with the
-    /// vectorisable [`super::exp::exp`] (within 2 ulp of `f64::exp`), the function the fused kernel
+    /// crate's own vectorisable exponential (within 2 ulp of `f64::exp`), the function the fused kernel
     /// calls per lane: both paths give the same bits. The exponent is clamped to \[−708, 709\]
     /// (a density of 1e−308 of the reference, or e^709 of it for an altitude far below the layer);
     /// NaN for a NaN altitude.
