@@ -88,7 +88,8 @@ impl Exponential {
     }
 
     /// The density \[kg/m^3\] at `altitude_m` \[m\]:
-    /// `reference_density * exp((reference_altitude - altitude) / scale_height)` with the
+    /// `reference_density * exp((reference_altitude - altitude) * (1 / scale_height))` (a loop
+    /// invariant reciprocal instead of a division per lane) with the
     /// crate's own vectorisable exponential (within 2 ulp of `f64::exp`), the function the fused kernel
     /// calls per lane: both paths give the same bits. The exponent is clamped to \[−708, 709\]
     /// (a density of 1e−308 of the reference, or e^709 of it for an altitude far below the layer);
@@ -96,7 +97,7 @@ impl Exponential {
     #[inline(always)]
     pub fn density_at_kg_per_m3(&self, altitude_m: f64) -> f64 {
         self.reference_density_kg_per_m3
-            * super::exp::exp((self.reference_altitude_m - altitude_m) / self.scale_height_m)
+            * super::exp::exp((self.reference_altitude_m - altitude_m) * (1.0 / self.scale_height_m))
     }
 }
 
