@@ -275,19 +275,26 @@ pub fn run_prepared(
     progress: &mut dyn FnMut(f64),
 ) -> Result<RunSummary, RunError> {
     let budget_mps = check_output_keys(scenario)?;
-    let output_error = |path: &Path, e: std::io::Error| RunError::Output {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
     let n = prepared.satellites.len();
-    let duration_s = prepared.config.duration_s;
-    let seed = prepared.config.seed;
     let mut metadata: BTreeMap<String, String> = prepared.tags.clone();
     metadata.insert("satflock_version".into(), env!("CARGO_PKG_VERSION").into());
     metadata.insert(
         "platform".into(),
         format!("{}-{}", std::env::consts::ARCH, std::env::consts::OS),
     );
+    let context = SummaryContext {
+        scenario: prepared.name.clone(),
+        source: scenario.source.clone(),
+        controller: prepared
+            .law_source
+            .clone()
+            .or_else(|| scenario.controller.as_ref().map(|c| c.source.clone())),
+        seed: prepared.config.seed,
+        epoch: prepared.epoch,
+        duration_s: prepared.config.duration_s,
+        budget_mps,
+        metadata,
+    };
     let mut simulation = Simulation::new(
         prepared.config,
         &prepared.satellites,
@@ -300,8 +307,247 @@ pub fn run_prepared(
     }
     // The output directory is created (or a previous run's cleared) only once the run can start.
     prepare_output_dir(out_dir)?;
-    let columns = OutputColumns::of(&simulation);
-    let epoch = prepared.epoch;
+    // The summary first, saying `failed` until the run's end replaces it: a process killed or a disk
+    // filled before then leaves a summary that says the run did not finish.
+    let not_finished =
+        "the run did not finish: this summary was written when it started and was never \
+                        replaced (the process was killed, or its disk was full)";
+    write_summary(
+        out_dir,
+        &context.summary(&simulation, BTreeMap::new(), Some(&not_finished), 0.0),
+    )?;
+    // A file that cannot be written before the run starts fails it, said in the summary.
+    let inputs = RunInputs {
+        law_source: prepared.law_source.as_deref(),
+        write_trajectory: prepared.write_trajectory,
+        n,
+    };
+    let mut recorder =
+        match write_inputs(scenario, &inputs, &context, &simulation, options, out_dir) {
+            Ok(recorder) => recorder,
+            Err(e) => {
+                let summary = context.summary(&simulation, BTreeMap::new(), Some(&e), 0.0);
+                write_summary(out_dir, &summary)?;
+                return Err(e);
+            }
+        };
+    let started = Instant::now();
+    let outcome = simulation.run(&mut recorder, progress);
+    let wall_time_s = started.elapsed().as_secs_f64();
+    // The files are closed however the run ended; a file that cannot be closed (or was removed because
+    // it could not be) fails the run, said with the error that stopped it.
+    let outcome = match (outcome, recorder.finish()) {
+        (Ok(_), Err(e)) => Err(SimError::Recording(e)),
+        (Err(SimError::Recording(e)), Err(f)) => Err(SimError::Recording(std::io::Error::new(
+            e.kind(),
+            format!("{e}; {f}"),
+        ))),
+        (Err(e), Err(f)) => Err(SimError::Recording(std::io::Error::new(
+            f.kind(),
+            format!("{e}; closing the tables: {f}"),
+        ))),
+        (outcome, Ok(())) => outcome,
+    };
+
+    let error = outcome.as_ref().err().map(|e| e as &dyn ErrorText);
+    let law_results = simulation.law_results();
+    let summary = context.summary(&simulation, law_results, error, wall_time_s);
+    write_summary(out_dir, &summary).map_err(|e| match e {
+        RunError::Output { path, message } => RunError::Output {
+            path,
+            message: format!(
+                "{message} (the run ended {}; summary.json still says `failed`, as written when the \
+                 run started)",
+                match &outcome {
+                    Ok(_) => "completed".to_string(),
+                    Err(e) => format!("with: {e}"),
+                }
+            ),
+        },
+        other => other,
+    })?;
+    outcome?;
+    if scenario.file.output.oem {
+        write_oem(out_dir)?;
+    }
+    Ok(summary)
+}
+
+/// What the summary states about a run besides the simulation's own numbers.
+struct SummaryContext {
+    scenario: String,
+    source: String,
+    controller: Option<String>,
+    seed: u64,
+    epoch: crate::time::Epoch,
+    duration_s: f64,
+    budget_mps: Option<f64>,
+    metadata: BTreeMap<String, String>,
+}
+
+/// What [`write_inputs`] takes from the prepared scenario.
+struct RunInputs<'a> {
+    law_source: Option<&'a str>,
+    write_trajectory: bool,
+    n: usize,
+}
+
+impl SummaryContext {
+    /// The summary of `simulation` as it stands, with the law's `results` (none before the run):
+    /// `completed` without an `error`, `interrupted` for [`SimError::Interrupted`], `failed` with the
+    /// error's text otherwise.
+    fn summary(
+        &self,
+        simulation: &Simulation,
+        law_results: BTreeMap<String, serde_json::Value>,
+        error: Option<&dyn ErrorText>,
+        wall_time_s: f64,
+    ) -> RunSummary {
+        let n = simulation.active().len();
+        let budget_mps = self.budget_mps;
+        let totals = simulation.totals().clone();
+        let (state, active) = (simulation.state(), simulation.active());
+        let ledger: Vec<([f64; 3], f64)> = (0..n).map(|i| state.ledger(i)).collect();
+        let live: Vec<usize> = (0..n).filter(|&i| active[i]).collect();
+        let count = live.len().max(1) as f64;
+        let mut mean_axes = [0.0; 3];
+        for &i in &live {
+            for (k, m) in mean_axes.iter_mut().enumerate() {
+                *m += ledger[i].0[k] / count;
+            }
+        }
+        RunSummary {
+            scenario: self.scenario.clone(),
+            source: self.source.clone(),
+            controller: self.controller.clone(),
+            seed: self.seed,
+            epoch_utc: crate::time::utc_iso(self.epoch),
+            time_system: frames::TIME_SYSTEM.into(),
+            tai_minus_utc_s: crate::time::tai_minus_utc_s(self.epoch),
+            tt_minus_utc_s: crate::time::tt_minus_utc_s(self.epoch),
+            frames: Frames::default(),
+            status: match error {
+                None => RunStatus::Completed,
+                Some(e) if e.is_interruption() => RunStatus::Interrupted,
+                Some(_) => RunStatus::Failed,
+            },
+            error: error.map(|e| e.text()),
+            warnings: run_warnings(
+                totals.max_collisions,
+                totals.min_separation_m,
+                &ledger,
+                budget_mps,
+            ),
+            n_satellites: n,
+            duration_s: self.duration_s,
+            simulated_s: simulation.time_s(),
+            wall_time_s,
+            satellite_steps_per_s: totals.satellite_steps as f64 / wall_time_s.max(1e-9),
+            threads: rayon::current_num_threads(),
+            timing: simulation.stage_timings(),
+            dynamics: DynamicsSummary {
+                model: simulation.config().dynamics.name().to_owned(),
+                forces: simulation.config().dynamics.forces().map(|f| f.summary()),
+            },
+            delta_v_mps: DeltaVSummary {
+                per_satellite: ledger.iter().map(|l| l.1).collect(),
+                max: live.iter().map(|&i| ledger[i].1).fold(0.0, f64::max),
+                mean: live.iter().map(|&i| ledger[i].1).sum::<f64>() / count,
+                mean_per_axis_hill: mean_axes,
+            },
+            min_separation_m: totals.min_separation_m,
+            collisions: totals.max_collisions,
+            final_state: FinalState {
+                five_elements: totals.final_five_elements,
+            },
+            environment: {
+                let config = simulation.config();
+                (!(config.threats.is_empty() && config.obstacles.is_empty())).then(|| {
+                    EnvironmentSummary::new(
+                        simulation.approach_monitor(),
+                        config
+                            .threats
+                            .iter()
+                            .map(|t| t.name().to_string())
+                            .collect(),
+                        config
+                            .obstacles
+                            .iter()
+                            .map(|o| o.name().to_string())
+                            .collect(),
+                    )
+                })
+            },
+            law: law_results,
+            metadata: self.metadata.clone(),
+        }
+    }
+}
+
+/// The error text of a summary: any run error, or a fixed reason.
+trait ErrorText {
+    /// The text of `error` in `summary.json`.
+    fn text(&self) -> String;
+    /// Whether the run was stopped by the cancel flag (status `interrupted`).
+    fn is_interruption(&self) -> bool {
+        false
+    }
+}
+
+impl ErrorText for SimError {
+    fn text(&self) -> String {
+        self.to_string()
+    }
+    fn is_interruption(&self) -> bool {
+        matches!(self, SimError::Interrupted { .. })
+    }
+}
+
+impl ErrorText for RunError {
+    fn text(&self) -> String {
+        self.to_string()
+    }
+}
+
+impl ErrorText for &str {
+    fn text(&self) -> String {
+        (*self).to_string()
+    }
+}
+
+/// Writes `dir/summary.json` whole (a temporary file renamed over it: a full disk never leaves a
+/// partial summary, and a summary already there stays until the new one is complete).
+fn write_summary(dir: &Path, summary: &RunSummary) -> Result<(), RunError> {
+    let text = serde_json::to_string_pretty(summary).expect("the summary serialises");
+    write_file(&dir.join("summary.json"), (text + "\n").as_bytes())
+}
+
+/// [`crate::output::export::write_whole`] as a [`RunError::Output`].
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), RunError> {
+    crate::output::export::write_whole(path, bytes).map_err(output_error)
+}
+
+/// A whole-file write's error as a [`RunError::Output`] (`write_whole` fails only with
+/// [`ExportError::Output`]).
+fn output_error(e: ExportError) -> RunError {
+    match e {
+        ExportError::Output { path, message } => RunError::Output { path, message },
+        other => RunError::Output {
+            path: String::new(),
+            message: other.to_string(),
+        },
+    }
+}
+
+/// Writes `scene.json` and `scenario.toml` (each whole) and creates the tables' files.
+fn write_inputs(
+    scenario: &Scenario,
+    inputs: &RunInputs<'_>,
+    context: &SummaryContext,
+    simulation: &Simulation,
+    options: &RunOptions,
+    out_dir: &Path,
+) -> Result<RunRecorder, RunError> {
     let scene = Scene {
         target_formation_lvlh_m: simulation
             .law()
@@ -309,14 +555,17 @@ pub fn run_prepared(
             .map(|points| points.iter().map(|p| [p.x, p.y, p.z]).collect()),
         ..Scene::from_config(simulation.config())
     };
-    scene.write(out_dir).map_err(|e| output_error(out_dir, e))?;
+    scene.write(out_dir).map_err(|e| RunError::Output {
+        path: out_dir.join("scene.json").display().to_string(),
+        message: e.to_string(),
+    })?;
     let scenario_path = out_dir.join("scenario.toml");
     let scenario_text = toml::to_string(&scenario.file).map_err(|e| RunError::Output {
         path: scenario_path.display().to_string(),
         message: e.to_string(),
     })?;
     // A replaced controller or law is said in a comment; the tables below are the scenario as run.
-    let scenario_text = match (&scenario.controller, &prepared.law_source) {
+    let scenario_text = match (&scenario.controller, inputs.law_source) {
         (_, Some(law)) => format!(
             "# As run: the scenario {} with the caller's law {law} instead of its [law].\n{scenario_text}",
             scenario.sources()
@@ -327,116 +576,27 @@ pub fn run_prepared(
         ),
         (None, None) => scenario_text,
     };
-    std::fs::write(&scenario_path, scenario_text).map_err(|e| output_error(&scenario_path, e))?;
+    write_file(&scenario_path, scenario_text.as_bytes())?;
     let formats = TableFormats::choose(
         options.format.or(scenario.file.output.format),
-        n,
-        prepared.write_trajectory,
+        inputs.n,
+        inputs.write_trajectory,
     );
     let run_metadata = RunMetadata {
-        scenario: prepared.name.clone(),
-        seed,
-        epoch,
+        scenario: context.scenario.clone(),
+        seed: context.seed,
+        epoch: context.epoch,
     };
-    let mut recorder = RunRecorder::create(out_dir, formats, columns, &run_metadata)
-        .map_err(|e| output_error(out_dir, e))?;
-    let started = Instant::now();
-    let outcome = simulation.run(&mut recorder, progress);
-    let wall_time_s = started.elapsed().as_secs_f64();
-    // The files are closed however the run ended; a file that cannot be closed fails the run.
-    let outcome = match (outcome, recorder.finish()) {
-        (Ok(_), Err(e)) => Err(SimError::Recording(e)),
-        (outcome, _) => outcome,
-    };
-
-    let law_results = simulation.law_results();
-    let totals = simulation.totals().clone();
-    let (state, active) = (simulation.state(), simulation.active());
-    let ledger: Vec<([f64; 3], f64)> = (0..n).map(|i| state.ledger(i)).collect();
-    let live: Vec<usize> = (0..n).filter(|&i| active[i]).collect();
-    let count = live.len().max(1) as f64;
-    let mut mean_axes = [0.0; 3];
-    for &i in &live {
-        for (k, m) in mean_axes.iter_mut().enumerate() {
-            *m += ledger[i].0[k] / count;
-        }
-    }
-    let summary = RunSummary {
-        scenario: prepared.name,
-        source: scenario.source.clone(),
-        controller: prepared
-            .law_source
-            .clone()
-            .or_else(|| scenario.controller.as_ref().map(|c| c.source.clone())),
-        seed,
-        epoch_utc: crate::time::utc_iso(epoch),
-        time_system: frames::TIME_SYSTEM.into(),
-        tai_minus_utc_s: crate::time::tai_minus_utc_s(epoch),
-        tt_minus_utc_s: crate::time::tt_minus_utc_s(epoch),
-        frames: Frames::default(),
-        status: match &outcome {
-            Ok(_) => RunStatus::Completed,
-            Err(SimError::Interrupted { .. }) => RunStatus::Interrupted,
-            Err(_) => RunStatus::Failed,
-        },
-        error: outcome.as_ref().err().map(|e| e.to_string()),
-        warnings: run_warnings(
-            totals.max_collisions,
-            totals.min_separation_m,
-            &ledger,
-            budget_mps,
-        ),
-        n_satellites: n,
-        duration_s,
-        simulated_s: simulation.time_s(),
-        wall_time_s,
-        satellite_steps_per_s: totals.satellite_steps as f64 / wall_time_s.max(1e-9),
-        threads: rayon::current_num_threads(),
-        timing: simulation.stage_timings(),
-        dynamics: DynamicsSummary {
-            model: simulation.config().dynamics.name().to_owned(),
-            forces: simulation.config().dynamics.forces().map(|f| f.summary()),
-        },
-        delta_v_mps: DeltaVSummary {
-            per_satellite: ledger.iter().map(|l| l.1).collect(),
-            max: live.iter().map(|&i| ledger[i].1).fold(0.0, f64::max),
-            mean: live.iter().map(|&i| ledger[i].1).sum::<f64>() / count,
-            mean_per_axis_hill: mean_axes,
-        },
-        min_separation_m: totals.min_separation_m,
-        collisions: totals.max_collisions,
-        final_state: FinalState {
-            five_elements: totals.final_five_elements,
-        },
-        environment: {
-            let config = simulation.config();
-            (!(config.threats.is_empty() && config.obstacles.is_empty())).then(|| {
-                EnvironmentSummary::new(
-                    simulation.approach_monitor(),
-                    config
-                        .threats
-                        .iter()
-                        .map(|t| t.name().to_string())
-                        .collect(),
-                    config
-                        .obstacles
-                        .iter()
-                        .map(|o| o.name().to_string())
-                        .collect(),
-                )
-            })
-        },
-        law: law_results,
-        metadata,
-    };
-    let path = out_dir.join("summary.json");
-    let text = serde_json::to_string_pretty(&summary).expect("the summary serialises");
-    std::fs::write(&path, text + "\n").map_err(|e| output_error(&path, e))?;
-    outcome?;
-    if scenario.file.output.oem {
-        write_oem(out_dir)?;
-    }
-    Ok(summary)
+    RunRecorder::create(
+        out_dir,
+        formats,
+        OutputColumns::of(simulation),
+        &run_metadata,
+    )
+    .map_err(|e| RunError::Output {
+        path: out_dir.display().to_string(),
+        message: e.to_string(),
+    })
 }
 
 /// `[output] oem = true`: writes `swarm.oem` from the finished run's directory.

@@ -363,6 +363,16 @@ fn usage(message: impl Into<String>) -> anyhow::Error {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // A file-size limit (`ulimit -f`) would kill the process with SIGXFSZ mid-write, leaving broken
+    // files and no summary: with a handler the write fails with EFBIG instead, and the run stops with
+    // its files closed and `summary.json` saying why.
+    if let Err(e) = signal_hook::flag::register(
+        signal_hook::consts::SIGXFSZ,
+        Arc::new(AtomicBool::new(false)),
+    ) {
+        eprintln!("error: cannot install the SIGXFSZ handler: {e}");
+        return ExitCode::from(1);
+    }
     let result = match cli.command {
         Command::Run {
             scenario,
@@ -592,7 +602,9 @@ fn run(
         Err(RunError::Simulation(e)) if e.is_setup() => {
             Err(usage(format!("{}: {e}", scenario.sources())))
         }
-        Err(e) => Err(e.into()),
+        // The run error's text already holds its cause (`recording failed: <the system's error>`):
+        // said once, not again as a chain.
+        Err(e) => Err(anyhow::anyhow!("{e}")),
     }
 }
 

@@ -1,6 +1,7 @@
 //! Regression cases of issue 12 (faults and honest outputs of `satflock run` and `propagate`): signals,
 //! whole CSV rows after SIGKILL, the output directory, no NaN in metrics.csv, collision and delta-v
-//! warnings, and the CLI's ranges for `--threads` and negative numbers.
+//! warnings, and the CLI's ranges for `--threads` and negative numbers; of issue 25: a full disk (a
+//! file-size limit) leaves every file valid or removed and a `failed` summary.
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -450,4 +451,77 @@ fn regress_negative_numbers_parsed_and_refused_with_range() {
         assert!(!out.exists());
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs `scenario` with a file-size limit of `limit_kib` KiB (`ulimit -f`), as a full disk would stop
+/// it: the process gets EFBIG instead of being killed by SIGXFSZ.
+fn run_under_file_limit(scenario: &Path, out: &Path, limit_kib: u32, extra: &str) -> Output {
+    let binary = env!("CARGO_BIN_EXE_satflock");
+    Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -f {limit_kib}; exec '{binary}' run '{}' --out '{}' --quiet --no-plots {extra}",
+            scenario.display(),
+            out.display()
+        ))
+        .output()
+        .unwrap()
+}
+
+/// Issue 25: a full disk (`ulimit -f`) used to kill the run with SIGXFSZ, leaving no summary, a 0-byte
+/// metrics.parquet and a footer-less trajectory. Now the run stops with exit 1 and a message, summary.json
+/// says `failed` with the reason, and every table left is readable (a broken Parquet file is removed).
+#[test]
+fn regress_file_size_limit_fails_the_run_with_every_file_valid() {
+    let dir = scratch_dir("file-limit");
+    let scenario = write_scenario(
+        &dir,
+        &builtin_with(
+            "free-drift",
+            &[
+                ("duration_s = 5800.0", "duration_s = 2000.0"),
+                ("record_interval_s = 20.0", "record_interval_s = 1.0"),
+            ],
+        ),
+    );
+    for format in ["csv", "parquet"] {
+        let out = dir.join(format!("out-{format}"));
+        let o = run_under_file_limit(&scenario, &out, 200, &format!("--format {format}"));
+        assert_eq!(o.status.code(), Some(1), "{format}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("File too large") && stderr(&o).contains("trajectory"),
+            "{format}: {}",
+            stderr(&o)
+        );
+        let s = summary(&out);
+        assert_eq!(s["status"], "failed", "{format}: {s}");
+        let reason = s["error"].as_str().unwrap();
+        assert!(reason.contains("File too large"), "{format}: {reason}");
+        for name in ["scene.json", "summary.json"] {
+            let text = std::fs::read_to_string(out.join(name)).unwrap();
+            serde_json::from_str::<serde_json::Value>(&text).unwrap();
+        }
+        let mut tables = 0;
+        for table in ["metrics", "trajectory"] {
+            let path = out.join(format!("{table}.{format}"));
+            if !path.exists() {
+                assert!(reason.contains("removed"), "{format}: {reason}");
+                continue;
+            }
+            tables += 1;
+            if format == "csv" {
+                assert!(assert_whole_rows(&path) > 0, "{}", path.display());
+            }
+            let read = satflock::output::Table::read(&path)
+                .unwrap_or_else(|e| panic!("{} unreadable: {e}", path.display()));
+            assert!(read.rows() > 0, "{}", path.display());
+        }
+        assert!(tables > 0, "{format}: no table left");
+        let leftovers: Vec<_> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".partial"))
+            .collect();
+        assert!(leftovers.is_empty(), "{leftovers:?}");
+    }
 }

@@ -5,12 +5,13 @@
 //!
 //! Whole records: each snapshot's rows are formatted into one buffer per file and handed to the system in
 //! one `write` (no `BufWriter` splitting a row across flushes), so a process killed outright (SIGKILL)
-//! loses whole records at the end of a file, never part of a row. A value that does not exist (NaN: a
+//! loses whole records at the end of a file, never part of a row. A write that fails (a full disk, a
+//! file-size limit) cuts the file back to its last whole record before the error is returned. A value that does not exist (NaN: a
 //! ratio at t = 0, a metric of an empty set) is an empty cell, never `NaN`.
 
 use std::fs::File;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::output::columns::{Column, ColumnKind, OutputColumns, Record, Tables};
 use crate::swarm::{Recorder, Snapshot};
@@ -18,20 +19,65 @@ use crate::time::Epoch;
 
 /// Streams snapshots to CSV files in a directory.
 pub struct CsvRecorder {
-    metrics: Option<(File, Vec<Column>)>,
-    trajectory: Option<(File, Vec<Column>)>,
+    metrics: Option<CsvTable>,
+    trajectory: Option<CsvTable>,
     columns: OutputColumns,
     epoch: Epoch,
     record: Record,
     block: String,
 }
 
-/// Creates `path` and writes the header line of `columns`.
-fn create_table(path: &Path, columns: Vec<Column>) -> std::io::Result<(File, Vec<Column>)> {
-    let mut file = File::create(path)?;
-    let names: Vec<&str> = columns.iter().map(|c| c.name).collect();
-    file.write_all(format!("{}\n", names.join(",")).as_bytes())?;
-    Ok((file, columns))
+/// One CSV file being written, with the length of its whole records \[bytes\].
+struct CsvTable {
+    path: PathBuf,
+    file: File,
+    columns: Vec<Column>,
+    whole_len: u64,
+}
+
+impl CsvTable {
+    /// Creates `path` and writes the header line of `columns` (a header that cannot be written
+    /// removes the file).
+    fn create(path: PathBuf, columns: Vec<Column>) -> std::io::Result<Self> {
+        let file = File::create(&path)?;
+        let mut table = Self {
+            path,
+            file,
+            columns,
+            whole_len: 0,
+        };
+        let names: Vec<&str> = table.columns.iter().map(|c| c.name).collect();
+        let header = format!("{}\n", names.join(","));
+        if let Err(e) = table.append(header.as_bytes()) {
+            let _ = std::fs::remove_file(&table.path);
+            return Err(std::io::Error::new(
+                e.kind(),
+                format!("{e}; the file was removed"),
+            ));
+        }
+        Ok(table)
+    }
+
+    /// Appends whole records in one write; if that fails, cuts the file back to its previous whole
+    /// records and returns the error naming the file.
+    fn append(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        match self.file.write_all(bytes) {
+            Ok(()) => {
+                self.whole_len += bytes.len() as u64;
+                Ok(())
+            }
+            Err(e) => {
+                let kept = match self.file.set_len(self.whole_len) {
+                    Ok(()) => "it was cut back to its last whole record".to_string(),
+                    Err(t) => format!("it could not be cut back to its last whole record: {t}"),
+                };
+                Err(std::io::Error::new(
+                    e.kind(),
+                    format!("{}: {e} ({kept})", self.path.display()),
+                ))
+            }
+        }
+    }
 }
 
 impl CsvRecorder {
@@ -45,11 +91,11 @@ impl CsvRecorder {
     ) -> std::io::Result<Self> {
         let metrics = tables
             .metrics
-            .then(|| create_table(&dir.join("metrics.csv"), columns.metrics()))
+            .then(|| CsvTable::create(dir.join("metrics.csv"), columns.metrics()))
             .transpose()?;
         let trajectory = tables
             .trajectory
-            .then(|| create_table(&dir.join("trajectory.csv"), columns.trajectory()))
+            .then(|| CsvTable::create(dir.join("trajectory.csv"), columns.trajectory()))
             .transpose()?;
         Ok(Self {
             metrics,
@@ -97,18 +143,18 @@ impl Recorder for CsvRecorder {
     fn record(&mut self, s: &Snapshot<'_>) -> std::io::Result<()> {
         let record = &mut self.record;
         record.fill(&self.columns, self.epoch, s, self.trajectory.is_some());
-        if let Some((file, columns)) = &mut self.metrics {
+        if let Some(table) = &mut self.metrics {
             self.block.clear();
-            push_row(&mut self.block, record, columns, &record.metrics);
-            file.write_all(self.block.as_bytes())?;
+            push_row(&mut self.block, record, &table.columns, &record.metrics);
+            table.append(self.block.as_bytes())?;
         }
-        if let Some((file, columns)) = &mut self.trajectory {
+        if let Some(table) = &mut self.trajectory {
             self.block.clear();
             for row in record.trajectory_rows() {
-                push_row(&mut self.block, record, columns, row);
+                push_row(&mut self.block, record, &table.columns, row);
             }
             // The whole record in one piece.
-            file.write_all(self.block.as_bytes())?;
+            table.append(self.block.as_bytes())?;
         }
         Ok(())
     }

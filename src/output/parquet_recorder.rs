@@ -17,7 +17,9 @@
 //! rows, so memory stays bounded whatever the run's length. The footer that makes a Parquet file
 //! readable is written by [`ParquetRecorder::finish`], which a run calls when it ends, also when it was
 //! interrupted (SIGINT, SIGTERM) or diverged. A process killed outright (SIGKILL, power loss) leaves no
-//! footer and an unreadable file: CSV is the format that survives that.
+//! footer and an unreadable file: CSV is the format that survives that. A write that fails (a full disk,
+//! a file-size limit) leaves a file with no valid footer possible: [`ParquetRecorder::finish`] then
+//! removes it (and any file whose footer cannot be written) and says so, and closes the other table.
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -55,6 +57,8 @@ struct ParquetTable {
     writer: ArrowWriter<File>,
     schema: SchemaRef,
     columns: Vec<Column>,
+    /// A write failed: the file cannot be closed into a valid Parquet file.
+    failed: bool,
 }
 
 /// An error of the Parquet or Arrow writer as an I/O error naming the file.
@@ -111,6 +115,7 @@ impl ParquetTable {
             writer,
             schema,
             columns,
+            failed: false,
         })
     }
 
@@ -137,19 +142,33 @@ impl ParquetTable {
             }
             let batch = RecordBatch::try_new(self.schema.clone(), arrays)
                 .map_err(|e| io_error(&self.path, e))?;
-            self.writer
-                .write(&batch)
-                .map_err(|e| io_error(&self.path, e))?;
+            if let Err(e) = self.writer.write(&batch) {
+                self.failed = true;
+                return Err(io_error(&self.path, e));
+            }
         }
         Ok(())
     }
 
-    /// Writes the last row group and the footer.
+    /// Writes the last row group and the footer. A table whose write failed, or whose footer cannot be
+    /// written, is removed (it could not be read) and the error says so.
     fn finish(self) -> std::io::Result<()> {
-        self.writer
-            .close()
-            .map(|_| ())
-            .map_err(|e| io_error(&self.path, e))
+        let closed = if self.failed {
+            Err(io_error(&self.path, "a write failed"))
+        } else {
+            self.writer
+                .close()
+                .map(|_| ())
+                .map_err(|e| io_error(&self.path, e))
+        };
+        closed.map_err(|e| {
+            let removed = match std::fs::remove_file(&self.path) {
+                Ok(()) => "the file was removed (a Parquet file without its footer cannot be read)"
+                    .to_string(),
+                Err(r) => format!("the unreadable file could not be removed: {r}"),
+            };
+            std::io::Error::new(e.kind(), format!("{e}; {removed}"))
+        })
     }
 }
 
@@ -191,11 +210,15 @@ impl ParquetRecorder {
     }
 
     /// Writes the last row groups and the footers. A run calls it when it ends, however it ends;
-    /// without it the files cannot be read.
+    /// without it the files cannot be read. A table that cannot be closed into a readable file is
+    /// removed; the error names each such file.
     pub fn finish(self) -> std::io::Result<()> {
         let metrics = self.metrics.map_or(Ok(()), ParquetTable::finish);
         let trajectory = self.trajectory.map_or(Ok(()), ParquetTable::finish);
-        metrics.and(trajectory)
+        match (metrics, trajectory) {
+            (Err(m), Err(t)) => Err(std::io::Error::new(m.kind(), format!("{m}; {t}"))),
+            (m, t) => m.and(t),
+        }
     }
 }
 

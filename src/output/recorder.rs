@@ -80,7 +80,8 @@ impl RunRecorder {
         Ok(Self { csv, parquet })
     }
 
-    /// Closes the files (the Parquet footers are written here).
+    /// Closes the files (the Parquet footers are written here). A Parquet table that cannot be closed
+    /// into a readable file (its write failed: a full disk) is removed, and the error says so.
     pub fn finish(self) -> std::io::Result<()> {
         self.parquet.map_or(Ok(()), ParquetRecorder::finish)
     }

@@ -88,10 +88,11 @@ impl Scene {
         }
     }
 
-    /// Writes `dir/scene.json`.
+    /// Writes `dir/scene.json` whole (a failed write, e.g. a full disk, leaves no partial file).
     pub fn write(&self, dir: &Path) -> std::io::Result<()> {
         let text = serde_json::to_string_pretty(self).expect("the scene serialises");
-        std::fs::write(dir.join("scene.json"), text + "\n")
+        super::export::write_whole(&dir.join("scene.json"), (text + "\n").as_bytes())
+            .map_err(|e| std::io::Error::other(e.to_string()))
     }
 
     /// Reads `dir/scene.json`; a run directory without one (written by an older satflock) has an empty
