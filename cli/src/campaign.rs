@@ -121,6 +121,17 @@ pub(crate) fn campaign_command(args: &CampaignArgs) -> Result<()> {
         }
     })?;
 
+    for line in &report.dropped {
+        eprintln!("warning: --resume dropped {line}");
+    }
+    if !report.dropped.is_empty() {
+        eprintln!(
+            "warning: --resume dropped {} manifest line(s) (listed in {}); runs that no kept line \
+             records as completed were run again",
+            report.dropped.len(),
+            args.out.join("summary.md").display()
+        );
+    }
     if !report.records.is_empty() {
         let parameters: Vec<PlotParameter> = campaign
             .parameters

@@ -28,7 +28,8 @@ use thiserror::Error;
 use satflock::campaign::pool::run_bounded;
 use satflock::output::{scalar_outcomes, RunData, RunTable, Spread};
 use satflock::run::{foreign_run_entry, run_scenario_with, RunError, RunOptions};
-use satflock::scenario::{Controller, Scenario};
+use satflock::scenario::schema::{ActionSection, ControlMode};
+use satflock::scenario::{merge_law_parameters, Controller, Scenario};
 
 use crate::plot::overlay::{draw_overlays, Curve, Overlay};
 
@@ -184,6 +185,7 @@ pub fn compare(options: &CompareOptions) -> Result<CompareReport, CompareError> 
     let mut laws: Vec<Law> = Vec::new();
     for spec in &options.laws {
         let controller = Controller::load(spec).map_err(|e| input(e.to_string()))?;
+        check_controller(&controller).map_err(input)?;
         let label = controller.label();
         if let Some(other) = laws.iter().find(|l| l.label == label) {
             return Err(input(format!(
@@ -319,6 +321,55 @@ fn run_dir(out: &Path, label: &str, seed: u64) -> PathBuf {
     out.join("runs").join(label).join(format!("seed-{seed}"))
 }
 
+/// Checks what a controller says by itself, whatever the case (once, before any run: a controller
+/// wrong in itself would be refused by every run): its law's parameters, its control period, and each
+/// law event's parameters or law (replayed in time order). The error names the file, the key and the
+/// allowed range, as `satflock run --law` does; what depends on the case (a law too stiff for its
+/// step, a formation of another size) is left to each run, which records it as refused.
+fn check_controller(controller: &Controller) -> Result<(), String> {
+    let file = &controller.file;
+    let fail =
+        |key: &str, message: String| format!("{}: key `{key}`: {message}", controller.source);
+    file.law.build().map_err(|e| fail("law", e.to_string()))?;
+    if let Some(control) = &file.control {
+        match (control.mode, control.period_s) {
+            (_, Some(p)) if !(p.is_finite() && p > 0.0) => {
+                return Err(fail(
+                    "control.period_s",
+                    format!("{p} is out of range (allowed: finite, > 0)"),
+                ))
+            }
+            (ControlMode::Sampled, None) => {
+                return Err(fail(
+                    "control.period_s",
+                    "is required with mode = \"sampled\"".into(),
+                ))
+            }
+            _ => {}
+        }
+    }
+    let mut order: Vec<usize> = (0..file.events.len()).collect();
+    order.sort_by(|&a, &b| file.events[a].time_s.total_cmp(&file.events[b].time_s));
+    let mut current = file.law.clone();
+    for k in order {
+        match &file.events[k].action {
+            ActionSection::SetLawParameters { parameters } => {
+                let key = format!("events[{k}].parameters");
+                current = merge_law_parameters(&current, parameters)
+                    .map_err(|m| fail(&key, format!("law `{}`: {m}", current.name())))?;
+                current.build().map_err(|e| fail(&key, e.to_string()))?;
+            }
+            ActionSection::SwitchLaw { law } => {
+                law.build()
+                    .map_err(|e| fail(&format!("events[{k}].law"), e.to_string()))?;
+                current = law.clone();
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Runs law `law` on the case with `seed`, into its directory, and reads back what it wrote.
 fn run_one(case: &Scenario, law: &Law, seed: u64, options: &CompareOptions) -> RunResult {
     let mut scenario = case.with_controller(&law.controller);
@@ -370,7 +421,7 @@ fn run_one(case: &Scenario, law: &Law, seed: u64, options: &CompareOptions) -> R
     }
 }
 
-/// The table of runs: text columns, then `seed` and the outcomes.
+/// The table of runs: text columns, then `seed` (exact, `UInt64`) and the outcomes.
 fn run_table(laws: &[Law], jobs: &[(usize, u64)], results: &[RunResult]) -> RunTable {
     let text: Vec<Vec<(String, String)>> = jobs
         .iter()
@@ -389,16 +440,10 @@ fn run_table(laws: &[Law], jobs: &[(usize, u64)], results: &[RunResult]) -> RunT
             ]
         })
         .collect();
-    let numbers: Vec<Vec<(String, f64)>> = jobs
-        .iter()
-        .zip(results)
-        .map(|(&(_, seed), r)| {
-            std::iter::once(("seed".to_string(), seed as f64))
-                .chain(r.outcomes.iter().cloned())
-                .collect()
-        })
-        .collect();
-    RunTable::from_rows(&text, &numbers)
+    let numbers: Vec<Vec<(String, f64)>> = results.iter().map(|r| r.outcomes.clone()).collect();
+    let mut table = RunTable::from_rows(&text, &numbers);
+    table.push_integers("seed", jobs.iter().map(|&(_, seed)| seed).collect());
+    table
 }
 
 /// A row of the side-by-side table: its label and the outcome column it summarises.
@@ -604,7 +649,7 @@ fn markdown(case: &Scenario, laws: &[Law], seeds: &[u64], table: &RunTable) -> S
     }
     // Runs not completed, one line per law and (status, error), with their seeds.
     let errors = table.text("error").unwrap_or_default();
-    let seed = table.numbers("seed").unwrap_or_default();
+    let seed = table.integers("seed").unwrap_or_default();
     let mut lines: Vec<(NotCompleted, Vec<String>)> = Vec::new();
     for l in laws {
         for k in of_law(l).into_iter().filter(|&k| status[k] != "completed") {

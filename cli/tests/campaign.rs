@@ -336,3 +336,170 @@ fn regress_a_refused_combination_is_recorded_and_the_others_run() {
     assert!(table.numbers("delta_v_mps.mean").unwrap()[1].is_nan());
     assert!(!out.join("runs/00001").exists());
 }
+
+/// The manifest's lines, as JSON.
+fn manifest_lines(out: &Path) -> Vec<serde_json::Value> {
+    std::fs::read_to_string(out.join("manifest.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+#[test]
+fn regress_resume_checks_every_manifest_line_against_its_run_and_says_what_it_dropped() {
+    let dir = scratch_dir("forged");
+    let file = dir.join("drift.toml");
+    std::fs::write(&file, DRIFT).unwrap();
+    let out = dir.join("out");
+    let o = campaign(&file, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = RunTable::read_parquet(&out.join("campaign.parquet")).unwrap();
+    let lines = manifest_lines(&out);
+    let line_of = |run: u64| lines[1..].iter().find(|l| l["run"] == run).unwrap().clone();
+    // Forged lines appended by hand: a seed that is not the run's, an outcome that is not its
+    // summary's, a failed run said completed, a run the campaign does not have, and garbage.
+    let mut seed = line_of(0);
+    seed["seed"] = 999.into();
+    let mut outcome = line_of(1);
+    outcome["outcomes"]["delta_v_mps.mean"] = 42.0.into();
+    let mut status = line_of(2);
+    status["status"] = "completed".into();
+    status["error"] = serde_json::Value::Null;
+    let mut foreign = line_of(3);
+    foreign["run"] = 17.into();
+    let mut text = std::fs::read_to_string(out.join("manifest.jsonl")).unwrap();
+    for forged in [&seed, &outcome, &status] {
+        text.push_str(&format!("{forged}\n"));
+    }
+    text.push_str("not a record\n");
+    text.push_str(&format!("{foreign}\n"));
+    std::fs::write(out.join("manifest.jsonl"), text).unwrap();
+
+    let o = campaign(&file, &out, &["--resume"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let e = stderr(&o);
+    for says in [
+        "manifest.jsonl line 6: run 0: seed 999 (the campaign's run 0 has seed 1)",
+        "manifest.jsonl line 7: run 1: outcome delta_v_mps.mean = 42",
+        "manifest.jsonl line 8: run 2: status completed, but",
+        "manifest.jsonl line 9: not a run record",
+        "manifest.jsonl line 10: run 17: not a run of this campaign (allowed: runs 0 to 3)",
+        "dropped 5 manifest line(s)",
+    ] {
+        assert!(e.contains(says), "{says}: {e}");
+    }
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(summary.contains("## Manifest lines dropped by `--resume`"));
+    assert!(summary.contains("- manifest.jsonl line 8: run 2: status completed"));
+    // Runs 0 and 1 kept from their genuine lines; run 2 (failed, forged completed) and run 3 run
+    // again; the table is the one the runs made.
+    let runs = manifest_runs(&out);
+    assert_eq!(runs[&0], (1, "completed".to_string()));
+    assert_eq!(runs[&1], (1, "completed".to_string()));
+    assert_eq!(runs[&2], (2, "failed".to_string()));
+    assert_eq!(runs[&3], (2, "failed".to_string()));
+    let resumed = RunTable::read_parquet(&out.join("campaign.parquet")).unwrap();
+    assert_same_tables(&table, &resumed);
+}
+
+#[test]
+fn val_every_row_records_the_parameters_its_run_used() {
+    // Nested dotted keys (one in a table the scenario does not write), an integer on a float key.
+    let dir = scratch_dir("applied");
+    let file = dir.join("c.toml");
+    std::fs::write(
+        &file,
+        "scenario = \"hold\"\nseeds = [3]\n[set]\nduration_s = 20.0\n\"satellites.count\" = 4\n\
+         events = []\n[vary]\n\"satellites.initial.radius_m\" = [150.0, 180]\n\
+         \"sensing.position_noise_m\" = [0.0, 0.25]\n\"law.stiffness_per_s2\" = { min = 5e-5, max = 5e-4 }\n\
+         [sampling]\nmethod = \"random\"\nsamples = 2\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = campaign(&file, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = RunTable::read_parquet(&out.join("campaign.parquet")).unwrap();
+    assert_eq!(table.rows(), 8);
+    let records: BTreeMap<u64, serde_json::Value> = manifest_lines(&out)[1..]
+        .iter()
+        .map(|l| (l["run"].as_u64().unwrap(), l.clone()))
+        .collect();
+    let keys = [
+        "law.stiffness_per_s2",
+        "satellites.initial.radius_m",
+        "sensing.position_noise_m",
+    ];
+    for run in 0..8usize {
+        let scenario: toml::Table = toml::from_str(
+            &std::fs::read_to_string(out.join(format!("runs/{run:05}/scenario.toml"))).unwrap(),
+        )
+        .unwrap();
+        let applied = |key: &str| -> f64 {
+            let mut node = toml::Value::Table(scenario.clone());
+            for part in key.split('.') {
+                node = match node {
+                    toml::Value::Table(t) => t[part].clone(),
+                    toml::Value::Array(a) => a[part.parse::<usize>().unwrap()].clone(),
+                    other => panic!("{key}: {other}"),
+                };
+            }
+            node.as_float().unwrap()
+        };
+        for key in keys {
+            let column = table.numbers(&format!("parameter.{key}")).unwrap()[run];
+            assert_eq!(applied(key).to_bits(), column.to_bits(), "run {run} {key}");
+            let recorded = records[&(run as u64)]["parameters"][key].as_f64().unwrap();
+            assert_eq!(recorded.to_bits(), column.to_bits(), "run {run} {key}");
+        }
+    }
+    // The intended grid: radius slowest, then the noise, then the samples.
+    let radius = table
+        .numbers("parameter.satellites.initial.radius_m")
+        .unwrap();
+    assert_eq!(
+        radius,
+        [150.0, 150.0, 150.0, 150.0, 180.0, 180.0, 180.0, 180.0]
+    );
+    let noise = table.numbers("parameter.sensing.position_noise_m").unwrap();
+    assert_eq!(noise, [0.0, 0.0, 0.25, 0.25, 0.0, 0.0, 0.25, 0.25]);
+}
+
+#[test]
+fn regress_an_unknown_outcome_is_refused_listing_the_known_ones() {
+    let dir = scratch_dir("outcomes");
+    let file = dir.join("c.toml");
+    std::fs::write(&file, format!("outcomes = [\"delta_v_mps.meen\"]\n{DRIFT}")).unwrap();
+    let out = dir.join("out");
+    let o = campaign(&file, &out, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("key `outcomes`") && e.contains("`delta_v_mps.meen`"),
+        "{e}"
+    );
+    assert!(
+        e.contains("delta_v_mps.mean,") && e.contains("law.NAME"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    // Known names pass, a law's own included.
+    std::fs::write(
+        &file,
+        format!("outcomes = [\"delta_v_mps.mean\", \"final.five_elements.r_o_m.0\"]\n{DRIFT}"),
+    )
+    .unwrap();
+    let o = campaign(&file, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // Every outcome the runs wrote is a known one (the list follows summary.json).
+    let table = RunTable::read_parquet(&out.join("campaign.parquet")).unwrap();
+    for (name, _) in &table.numbers {
+        if ["run", "point"].contains(&name.as_str()) || name.starts_with("parameter.") {
+            continue;
+        }
+        assert!(
+            satflock::campaign::summary::is_known_outcome(name),
+            "{name} is not in KNOWN_OUTCOMES"
+        );
+    }
+}

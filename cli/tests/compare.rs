@@ -417,3 +417,72 @@ fn the_table_does_not_depend_on_jobs() {
     assert!(o.status.success(), "{}", text(&o).1);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn regress_seeds_beyond_2_to_the_53_are_stored_exactly() {
+    let dir = setup("big-seeds");
+    let seeds = [u64::MAX, (1u64 << 53) + 1];
+    let out = satflock()
+        .arg("compare")
+        .arg(dir.join("case.toml"))
+        .arg("--law")
+        .arg(dir.join("laws/drift.toml"))
+        .arg("--seeds")
+        .arg(format!("{},{}", seeds[0], seeds[1]))
+        .args(["--quiet", "--out"])
+        .arg(dir.join("cmp"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out).1);
+    let table = RunTable::read_parquet(&dir.join("cmp/compare.parquet")).unwrap();
+    assert_eq!(table.integers("seed"), Some(&seeds[..]));
+    assert!(table.numbers("seed").is_none());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn regress_a_controller_invalid_in_itself_exits_2_before_any_run() {
+    let dir = setup("invalid-controller");
+    for (name, controller, key) in [
+        (
+            "nan.toml",
+            "[law]\nname = \"hold\"\nstiffness_per_s2 = nan\ndamping_per_s = 0.1\n",
+            "law",
+        ),
+        (
+            "period.toml",
+            "[law]\nname = \"none\"\n[control]\nmode = \"sampled\"\nperiod_s = -1.0\n",
+            "control.period_s",
+        ),
+        (
+            "event.toml",
+            "[law]\nname = \"hold\"\nstiffness_per_s2 = 1e-3\ndamping_per_s = 0.1\n[[events]]\n\
+             time_s = 10.0\naction = \"set-law-parameters\"\nparameters = { damping_per_s = -1.0 }\n",
+            "events[0].parameters",
+        ),
+    ] {
+        let bad = dir.join("laws").join(name);
+        std::fs::write(&bad, controller).unwrap();
+        let out_dir = dir.join(format!("cmp-{name}"));
+        let out = satflock()
+            .arg("compare")
+            .arg(dir.join("case.toml"))
+            .arg("--law")
+            .arg(dir.join("laws/drift.toml"))
+            .arg("--law")
+            .arg(&bad)
+            .args(["--seeds", "1..2", "--quiet", "--out"])
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        let (_, stderr) = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+        assert!(
+            stderr.contains(&bad.display().to_string()) && stderr.contains(&format!("key `{key}`")),
+            "{name}: {stderr}"
+        );
+        assert!(stderr.contains("allowed"), "{name}: {stderr}");
+        assert!(!out_dir.exists(), "{name}: nothing may run");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -183,12 +183,14 @@ def campaign(
     try:
         try:
             if backend == "local":
-                plan.run_local(folder, jobs, resume, keep_runs, bar.event)
+                dropped = plan.run_local(folder, jobs, resume, keep_runs, bar.event)
             else:
-                _run_on_ray(ray, plan, folder, temporary is not None, jobs, resume, keep_runs,
-                            cpus_per_run, bar)
+                dropped = _run_on_ray(ray, plan, folder, temporary is not None, jobs, resume,
+                                      keep_runs, cpus_per_run, bar)
         finally:
             bar.close()
+        for line in dropped:
+            sys.stderr.write(f"warning: resume dropped {line}\n")
         table_path = os.path.join(folder, "campaign.parquet")
         if not os.path.exists(table_path):
             # No run finished (possible only when every run was stopped).
@@ -218,7 +220,8 @@ def _run_task(spec, index: int, out: Optional[str], keep_runs: bool, threads: in
 
 def _run_on_ray(ray, plan, folder, private_runs, jobs, resume, keep_runs, cpus_per_run, bar):
     """Runs the runs left in ``folder`` as Ray tasks; the driver appends each record to the
-    manifest as it arrives and writes the table and summary at the end (also when stopped)."""
+    manifest as it arrives and writes the table and summary at the end (also when stopped).
+    Returns the manifest lines ``resume`` dropped."""
     if not ray.is_initialized():
         ray.init()
     output = plan.prepare(folder, resume)
@@ -252,3 +255,4 @@ def _run_on_ray(ray, plan, folder, private_runs, jobs, resume, keep_runs, cpus_p
         output.finish()
         raise
     output.finish()
+    return list(output.dropped)

@@ -149,7 +149,7 @@ impl CampaignPlan {
     /// from the worker threads: `("planned", runs to do, runs already complete)`, `("started", run,
     /// None)`, `("finished", run, status)`. The GIL is released; Ctrl-C stops the running runs
     /// (recorded as interrupted), writes the table and summary of what finished and raises
-    /// `KeyboardInterrupt`.
+    /// `KeyboardInterrupt`. Returns the manifest lines `resume` dropped, each with why.
     #[pyo3(signature = (out, jobs = None, resume = false, keep_runs = false, on_event = None))]
     fn run_local(
         &self,
@@ -159,7 +159,7 @@ impl CampaignPlan {
         resume: bool,
         keep_runs: bool,
         on_event: Option<Py<PyAny>>,
-    ) -> PyResult<()> {
+    ) -> PyResult<Vec<String>> {
         if jobs == Some(0) {
             return Err(PyValueError::new_err(
                 "jobs = 0 (allowed: an integer >= 1, or None for one per core)",
@@ -188,11 +188,11 @@ impl CampaignPlan {
                 }
             });
         };
-        run_detached(py, None, &cancel, || {
+        let report = run_detached(py, None, &cancel, || {
             run_campaign(&self.campaign, &out, &options, &events)
         })?
         .map_err(|e| campaign_error(&e))?;
-        Ok(())
+        Ok(report.dropped)
     }
 
     /// Prepares `out` for the campaign (a new path or an empty folder; with `resume`, also this
@@ -208,6 +208,7 @@ impl CampaignPlan {
             already_complete: prepared.already_complete,
             previous: prepared.previous,
             manifest: Some(prepared.manifest),
+            dropped: prepared.dropped,
             ran: Vec::new(),
         })
     }
@@ -262,6 +263,7 @@ pub struct CampaignOutput {
     previous: Vec<RunRecord>,
     /// `None` once finished.
     manifest: Option<manifest::Writer>,
+    dropped: Vec<String>,
     ran: Vec<RunRecord>,
 }
 
@@ -277,6 +279,13 @@ impl CampaignOutput {
     #[getter]
     fn already_complete(&self) -> usize {
         self.already_complete
+    }
+
+    /// The manifest lines `resume` dropped (unreadable, or contradicted by their run's folder or the
+    /// campaign), each with why; their runs are in `to_run` unless another line completes them.
+    #[getter]
+    fn dropped(&self) -> Vec<String> {
+        self.dropped.clone()
     }
 
     /// Appends a run's record (JSON text from `CampaignPlan.run_one`) to the manifest, flushed;
@@ -306,6 +315,7 @@ impl CampaignOutput {
             &self.out,
             std::mem::take(&mut self.previous),
             std::mem::take(&mut self.ran),
+            &self.dropped,
         )
         .map_err(|e| campaign_error(&e))?;
         Ok(())

@@ -371,6 +371,20 @@ impl Campaign {
                     format!("`{bad}` is empty (allowed: outcome names of summary.json, e.g. `delta_v_mps.mean`)"),
                 ));
             }
+            if let Some(bad) = outcomes
+                .iter()
+                .find(|o| !super::summary::is_known_outcome(o))
+            {
+                return Err(invalid(
+                    "outcomes",
+                    format!(
+                        "`{bad}` is not an outcome of a run (allowed: {}; a component `NAME.K` of {}; \
+                         or `law.NAME`, a result of the law)",
+                        super::summary::KNOWN_OUTCOMES.join(", "),
+                        super::summary::VECTOR_OUTCOMES.join(", ")
+                    ),
+                ));
+            }
         }
         Ok(Self {
             file: file.to_string(),

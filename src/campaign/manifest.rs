@@ -3,8 +3,9 @@
 //! run, appended and flushed as each run finishes (in the order they finish; a run run again by
 //! `--resume` gets a new line, and the last line of a run wins).
 //!
-//! A line cut short (the campaign killed while writing it) is ignored when the manifest is read back,
-//! and dropped when `--resume` rewrites the manifest before appending to it.
+//! `--resume` trusts no line: a line that does not read as a record (cut short by a kill, or edited) and
+//! a record that its run's directory or the campaign contradicts are dropped, said on stderr and in
+//! `summary.md`, and their runs run again ([`super::runner::prepare`]).
 
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
@@ -184,9 +185,20 @@ impl Writer {
     }
 }
 
-/// Reads a manifest: its header and the last record of every run (by run index). Lines that do not
-/// read as a record (a line cut short) are left out.
-pub fn read(path: &Path) -> Result<(Header, BTreeMap<usize, RunRecord>), CampaignError> {
+/// A manifest read back by [`read`].
+#[derive(Clone, Debug)]
+pub struct Contents {
+    /// The header.
+    pub header: Header,
+    /// Every line that reads as a record, with its line number (from 1), in file order.
+    pub records: Vec<(usize, RunRecord)>,
+    /// Line numbers (from 1) of the lines after the header that do not read as a record (a line cut
+    /// short by a kill, or anything else).
+    pub unreadable: Vec<usize>,
+}
+
+/// Reads a manifest: its header, every line that reads as a record, and the lines that do not.
+pub fn read(path: &Path) -> Result<Contents, CampaignError> {
     let fail = |message: String| CampaignError::Resume {
         path: path.display().to_string(),
         message,
@@ -197,11 +209,17 @@ pub fn read(path: &Path) -> Result<(Header, BTreeMap<usize, RunRecord>), Campaig
         .next()
         .and_then(|l| serde_json::from_str(l).ok())
         .ok_or_else(|| fail("the first line is not a campaign manifest header".into()))?;
-    let mut records = BTreeMap::new();
-    for line in lines {
-        if let Ok(record) = serde_json::from_str::<RunRecord>(line) {
-            records.insert(record.run, record);
+    let mut records = Vec::new();
+    let mut unreadable = Vec::new();
+    for (k, line) in lines.enumerate() {
+        match serde_json::from_str::<RunRecord>(line) {
+            Ok(record) => records.push((k + 2, record)),
+            Err(_) => unreadable.push(k + 2),
         }
     }
-    Ok((header, records))
+    Ok(Contents {
+        header,
+        records,
+        unreadable,
+    })
 }

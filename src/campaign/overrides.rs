@@ -168,6 +168,43 @@ pub fn apply(table: &mut toml::Table, path: &KeyPath, value: &toml::Value) -> Re
     Ok(())
 }
 
+/// The value at `path` in `table`, if the table has it.
+pub fn get<'a>(table: &'a toml::Table, path: &KeyPath) -> Option<&'a toml::Value> {
+    let (Segment::Key(first), rest) = path.segments().split_first()? else {
+        return None;
+    };
+    let mut node = table.get(first)?;
+    for segment in rest {
+        node = match (segment, node) {
+            (Segment::Key(key), toml::Value::Table(t)) => t.get(key)?,
+            (Segment::Index(i), toml::Value::Array(items)) => items.get(*i)?,
+            _ => return None,
+        };
+    }
+    Some(node)
+}
+
+/// Whether `found` (a value read back from a scenario) is what setting `value` made it: numbers by
+/// value (an integer set on a float key reads back as a float), tables key by key for the keys `value`
+/// sets (a table merges into the scenario's), arrays element by element, anything else equal.
+pub fn holds(found: &toml::Value, value: &toml::Value) -> bool {
+    use toml::Value::{Array, Float, Integer, Table};
+    match (found, value) {
+        (Integer(a), Integer(b)) => a == b,
+        (Float(_) | Integer(_), Float(_) | Integer(_)) => {
+            found.as_float().or(found.as_integer().map(|i| i as f64))
+                == value.as_float().or(value.as_integer().map(|i| i as f64))
+        }
+        (Table(found), Table(value)) => value
+            .iter()
+            .all(|(k, v)| found.get(k).is_some_and(|f| holds(f, v))),
+        (Array(found), Array(value)) => {
+            found.len() == value.len() && found.iter().zip(value).all(|(f, v)| holds(f, v))
+        }
+        _ => found == value,
+    }
+}
+
 /// `a table`, `an integer`.
 fn article(type_name: &str) -> String {
     if type_name.starts_with(['a', 'e', 'i', 'o', 'u']) {
@@ -295,6 +332,27 @@ mod tests {
         assert!(e.contains("`duration_s` is a float"), "{e}");
         let e = apply(&mut t, &key("threats.x"), &v).unwrap_err();
         assert!(e.contains("an array in the scenario, not a table"), "{e}");
+    }
+
+    #[test]
+    fn gets_values_back_and_compares_them_as_set() {
+        let t = table(
+            "duration_s = 60.0\n[law]\nk = 2.0\nname = \"hold\"\n[[threats]]\nspeed_mps = 3.0\n",
+        );
+        let got = |k: &str| get(&t, &key(k)).cloned();
+        assert_eq!(got("law.k"), Some(toml::Value::Float(2.0)));
+        assert_eq!(got("threats.0.speed_mps"), Some(toml::Value::Float(3.0)));
+        for missing in ["law.x", "threats.1.speed_mps", "duration_s.x", "threats.x"] {
+            assert_eq!(got(missing), None, "{missing}");
+        }
+        let found = got("duration_s").unwrap();
+        assert!(holds(&found, &toml::Value::Integer(60)));
+        assert!(holds(&found, &toml::Value::Float(60.0)));
+        assert!(!holds(&found, &toml::Value::Float(60.5)));
+        let law = got("law").unwrap();
+        assert!(holds(&law, &toml::Value::Table(table("k = 2"))));
+        assert!(!holds(&law, &toml::Value::Table(table("k = 3.0"))));
+        assert!(!holds(&law, &toml::Value::String("hold".into())));
     }
 
     #[test]

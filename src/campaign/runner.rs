@@ -20,6 +20,13 @@
 //! never on which worker ran it, in which order or with how many jobs; a run that fails or is refused
 //! is recorded with its status and error and the campaign goes on. With `resume`, the manifest's
 //! completed runs are kept and the others (failed, refused, interrupted or missing) are run.
+//!
+//! A record's `parameters` are the varied keys' values as the run used them, read back from its own
+//! `scenario.toml` (a run that used another value than the campaign's is recorded as failed). Resuming
+//! trusts no manifest line ([`check_record`]): a line that does not read, or a record that the
+//! campaign (its runs, points and seeds) or its run's directory (`scenario.toml`, `summary.json`:
+//! seed, status, outcomes) contradicts, is dropped and said ([`Prepared::dropped`], stderr,
+//! `summary.md`); a run no kept line records as completed runs again.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -28,7 +35,7 @@ use std::sync::{Arc, Mutex};
 
 use super::file::{Campaign, RunSpec};
 use super::manifest::{self, Header, RunRecord, Status};
-use super::{pool, summary, table, CampaignError};
+use super::{overrides, pool, summary, table, CampaignError};
 use crate::output::outcomes::{scalar_outcomes, RunTable};
 use crate::run::{run_scenario_with, RunError, RunOptions};
 use crate::swarm::SimError;
@@ -84,6 +91,8 @@ pub struct CampaignReport {
     pub table: RunTable,
     /// The headline outcomes of `summary.md`.
     pub outcomes: Vec<String>,
+    /// Manifest lines that `resume` dropped, each with why ([`Prepared::dropped`]).
+    pub dropped: Vec<String>,
 }
 
 impl CampaignReport {
@@ -113,6 +122,7 @@ pub fn run_campaign(
         previous,
         already_complete,
         manifest,
+        dropped,
     } = prepare(campaign, out, options.resume)?;
     events(RunEvent::Planned {
         to_run: to_run.len(),
@@ -145,9 +155,10 @@ pub fn run_campaign(
     }
     let ran: Vec<RunRecord> = finished.into_iter().flatten().collect();
     let ran_count = ran.len();
-    let (records, table) = finish(campaign, out, previous, ran)?;
+    let (records, table) = finish(campaign, out, previous, ran, &dropped)?;
     Ok(CampaignReport {
         outcomes: summary::headline_outcomes(campaign, &table),
+        dropped,
         records,
         ran: ran_count,
         already_complete,
@@ -168,13 +179,17 @@ pub struct Prepared {
     /// The manifest, rewritten with its header and `previous` (a line cut short dropped); append each
     /// finished run's record to it ([`manifest::Writer::append`]).
     pub manifest: manifest::Writer,
+    /// The manifest lines that were not kept, each as `manifest.jsonl line N: why` (a line that does not
+    /// read as a record, or a record that [`check_record`] refuses); give them to [`finish`].
+    pub dropped: Vec<String>,
 }
 
 /// Prepares `out` for `campaign`: without `resume` it must be a new path or an empty directory; with
-/// it, it may also hold a manifest of this campaign, whose completed runs are kept. Writes the
-/// manifest's header (and the kept records) and says which runs are left.
+/// it, it may also hold a manifest of this campaign, whose completed runs are kept (each line checked
+/// by [`check_record`]; the others dropped and listed). Writes the manifest's header (and the kept
+/// records) and says which runs are left.
 pub fn prepare(campaign: &Campaign, out: &Path, resume: bool) -> Result<Prepared, CampaignError> {
-    let previous = prepare_output(campaign, out, resume)?;
+    let (previous, dropped) = prepare_output(campaign, out, resume)?;
     let previous: Vec<RunRecord> = previous.into_values().collect();
     let complete: Vec<usize> = previous
         .iter()
@@ -196,17 +211,20 @@ pub fn prepare(campaign: &Campaign, out: &Path, resume: bool) -> Result<Prepared
         already_complete: complete.len(),
         previous,
         manifest,
+        dropped,
     })
 }
 
 /// Writes `campaign.parquet` (when a run finished) and `summary.md` into `out` from the records of
 /// the runs: `previous` (a resumed manifest's) and `ran` (this invocation's, in any order; a run in
-/// both counts as in `ran`). Returns every run's last record in run order, and the table.
+/// both counts as in `ran`); `dropped` ([`Prepared::dropped`]) is listed in the summary. Returns every
+/// run's last record in run order, and the table.
 pub fn finish(
     campaign: &Campaign,
     out: &Path,
     previous: Vec<RunRecord>,
     ran: Vec<RunRecord>,
+    dropped: &[String],
 ) -> Result<(Vec<RunRecord>, RunTable), CampaignError> {
     let mut last: BTreeMap<usize, RunRecord> = previous.into_iter().map(|r| (r.run, r)).collect();
     last.extend(ran.into_iter().map(|r| (r.run, r)));
@@ -231,19 +249,22 @@ pub fn finish(
             .map_err(|e| output(&table_path, e))?;
     }
     let summary_path = out.join(summary::FILE_NAME);
-    std::fs::write(&summary_path, summary::markdown(campaign, &records, &table))
-        .map_err(|e| output(&summary_path, e))?;
+    std::fs::write(
+        &summary_path,
+        summary::markdown(campaign, &records, &table, dropped),
+    )
+    .map_err(|e| output(&summary_path, e))?;
     Ok((records, table))
 }
 
-/// Checks the output directory and returns the manifest's last record per run when resuming. Without
-/// `resume` the directory must be new or empty; with it, it must be new, empty or hold a manifest of
-/// this campaign.
-fn prepare_output(
-    campaign: &Campaign,
-    out: &Path,
-    resume: bool,
-) -> Result<BTreeMap<usize, RunRecord>, CampaignError> {
+/// Manifest records of every run (the last line of each that [`check_record`] keeps), and the lines
+/// dropped with why.
+type Kept = (BTreeMap<usize, RunRecord>, Vec<String>);
+
+/// Checks the output directory and returns, when resuming, the manifest's last kept record per run and
+/// the dropped lines. Without `resume` the directory must be new or empty; with it, it must be new,
+/// empty or hold a manifest of this campaign.
+fn prepare_output(campaign: &Campaign, out: &Path, resume: bool) -> Result<Kept, CampaignError> {
     let refuse = |message: String| CampaignError::OutputDirectory {
         path: out.display().to_string(),
         message,
@@ -255,7 +276,7 @@ fn prepare_output(
     match std::fs::metadata(out) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             std::fs::create_dir_all(out).map_err(output)?;
-            return Ok(BTreeMap::new());
+            return Ok(Kept::default());
         }
         Err(e) => return Err(output(e)),
         Ok(m) if !m.is_dir() => {
@@ -268,7 +289,7 @@ fn prepare_output(
     let manifest_path = out.join(manifest::FILE_NAME);
     let empty = std::fs::read_dir(out).map_err(output)?.next().is_none();
     if empty {
-        return Ok(BTreeMap::new());
+        return Ok(Kept::default());
     }
     if !manifest_path.is_file() {
         return Err(refuse(
@@ -283,8 +304,8 @@ fn prepare_output(
                 .into(),
         ));
     }
-    let (header, records) = manifest::read(&manifest_path)?;
-    if let Some(why) = header.mismatch(campaign) {
+    let contents = manifest::read(&manifest_path)?;
+    if let Some(why) = contents.header.mismatch(campaign) {
         return Err(CampaignError::Resume {
             path: manifest_path.display().to_string(),
             message: format!(
@@ -292,10 +313,171 @@ fn prepare_output(
             ),
         });
     }
-    Ok(records
+    let mut dropped: Vec<(usize, String)> = contents
+        .unreadable
+        .iter()
+        .map(|&line| (line, "not a run record (cut short, or edited)".to_string()))
+        .collect();
+    let mut kept = BTreeMap::new();
+    for (line, record) in contents.records {
+        match check_record(campaign, out, &record) {
+            Ok(()) => {
+                kept.insert(record.run, record);
+            }
+            Err(why) => dropped.push((line, format!("run {}: {why}", record.run))),
+        }
+    }
+    dropped.sort();
+    let dropped = dropped
         .into_iter()
-        .filter(|(k, _)| *k < campaign.run_count())
-        .collect())
+        .map(|(line, why)| format!("{} line {line}: {why}", manifest::FILE_NAME))
+        .collect();
+    Ok((kept, dropped))
+}
+
+/// Whether a manifest record is what its run did: the run is one of the campaign's, with its point and
+/// seed; its parameters are the values its `scenario.toml` holds (or the campaign's, for a run that
+/// wrote none); its `summary.json` (absent only for a run that did not complete and has no outcomes)
+/// has its seed, says `completed` exactly when the record does, and has its outcomes. The error says
+/// the first thing that does not match.
+pub fn check_record(campaign: &Campaign, out: &Path, record: &RunRecord) -> Result<(), String> {
+    let runs = campaign.run_count();
+    if record.run >= runs {
+        return Err(format!(
+            "not a run of this campaign (allowed: runs 0 to {})",
+            runs - 1
+        ));
+    }
+    let spec = campaign.run(record.run);
+    if record.point != spec.point {
+        return Err(format!(
+            "point {} (the campaign's run {} is point {})",
+            record.point, spec.index, spec.point
+        ));
+    }
+    if record.seed != spec.seed {
+        return Err(format!(
+            "seed {} (the campaign's run {} has seed {})",
+            record.seed, spec.index, spec.seed
+        ));
+    }
+    let dir = run_dir(out, record.run);
+    let parameters = applied_parameters(campaign, spec.point, &dir)?
+        .unwrap_or_else(|| intended_parameters(campaign, spec.point));
+    if record.parameters != parameters {
+        return Err(format!(
+            "parameters {} (the run used {})",
+            serde_json::Value::from(serde_json::Map::from_iter(record.parameters.clone())),
+            serde_json::Value::from(serde_json::Map::from_iter(parameters))
+        ));
+    }
+    let summary_path = dir.join("summary.json");
+    let summary = std::fs::read_to_string(&summary_path)
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok());
+    let Some(summary) = summary else {
+        return if record.status == Status::Completed || !record.outcomes.is_empty() {
+            Err(format!(
+                "status {} with {} outcome(s), but {} is missing or unreadable",
+                record.status.as_str(),
+                record.outcomes.len(),
+                summary_path.display()
+            ))
+        } else {
+            Ok(())
+        };
+    };
+    if summary["seed"].as_u64() != Some(spec.seed) {
+        return Err(format!(
+            "{} has seed {}, not the campaign's {}",
+            summary_path.display(),
+            summary["seed"],
+            spec.seed
+        ));
+    }
+    let completed = summary["status"].as_str() == Some("completed");
+    if completed != (record.status == Status::Completed) {
+        return Err(format!(
+            "status {}, but {} says {}",
+            record.status.as_str(),
+            summary_path.display(),
+            summary["status"]
+        ));
+    }
+    let outcomes: BTreeMap<String, f64> = scalar_outcomes(&summary).into_iter().collect();
+    if let Some((name, value)) = record
+        .outcomes
+        .iter()
+        .find(|(name, value)| outcomes.get(*name).map(|v| v.to_bits()) != Some(value.to_bits()))
+    {
+        return Err(format!(
+            "outcome {name} = {value}, but {} has {}",
+            summary_path.display(),
+            outcomes
+                .get(name)
+                .map_or("none".to_string(), f64::to_string)
+        ));
+    }
+    if let Some(name) = outcomes.keys().find(|n| !record.outcomes.contains_key(*n)) {
+        return Err(format!(
+            "outcome {name} of {} is missing",
+            summary_path.display()
+        ));
+    }
+    Ok(())
+}
+
+/// The directory of run `index`: `out/runs/NNNNN`.
+fn run_dir(out: &Path, index: usize) -> std::path::PathBuf {
+    out.join(RUNS_DIR).join(format!("{index:05}"))
+}
+
+/// The varied keys' values of point `point` as the campaign sets them, as JSON.
+fn intended_parameters(campaign: &Campaign, point: usize) -> BTreeMap<String, serde_json::Value> {
+    campaign
+        .point_values(point)
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), toml_to_json(v)))
+        .collect()
+}
+
+/// A TOML value as JSON (a TOML date, which JSON has not, as its text).
+fn toml_to_json(value: &toml::Value) -> serde_json::Value {
+    serde_json::to_value(value).unwrap_or_else(|_| serde_json::Value::String(value.to_string()))
+}
+
+/// The varied keys' values of point `point` as the run in `dir` used them, read back from its
+/// `scenario.toml` (`Ok(None)`: the run wrote none, it was refused before it started). The error names
+/// the file and a varied key it lacks or holds with another value than the campaign's.
+pub fn applied_parameters(
+    campaign: &Campaign,
+    point: usize,
+    dir: &Path,
+) -> Result<Option<BTreeMap<String, serde_json::Value>>, String> {
+    let path = dir.join("scenario.toml");
+    let text = match std::fs::read_to_string(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(format!("{}: {e}", path.display())),
+        Ok(text) => text,
+    };
+    let table: toml::Table =
+        toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    campaign
+        .point_values(point)
+        .into_iter()
+        .map(|(key, intended)| match overrides::get(&table, key) {
+            None => Err(format!(
+                "{} has no `{key}` (the campaign sets it to {intended})",
+                path.display()
+            )),
+            Some(found) if !overrides::holds(found, intended) => Err(format!(
+                "{} has `{key}` = {found}, not the campaign's {intended}",
+                path.display()
+            )),
+            Some(found) => Ok((key.to_string(), toml_to_json(found))),
+        })
+        .collect::<Result<_, _>>()
+        .map(Some)
 }
 
 /// Runs one run into `out/runs/NNNNN/` and returns its record (never an error: a run that cannot run
@@ -310,7 +492,7 @@ pub fn execute(
     keep_runs: bool,
     cancel: Option<Arc<AtomicBool>>,
 ) -> RunRecord {
-    let dir = out.join(RUNS_DIR).join(format!("{:05}", spec.index));
+    let dir = run_dir(out, spec.index);
     let (status, error) = match campaign.scenario(spec) {
         Err(e) => (Status::Refused, Some(e.to_string())),
         Ok(scenario) => {
@@ -337,6 +519,17 @@ pub fn execute(
         .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
         .map(|summary| scalar_outcomes(&summary).into_iter().collect())
         .unwrap_or_default();
+    // The parameters as the run used them (its own scenario.toml), the campaign's for a run that wrote
+    // none; a run that used other values did not run the campaign's point.
+    let (parameters, status, error) = match applied_parameters(campaign, spec.point, &dir) {
+        Ok(Some(applied)) => (applied, status, error),
+        Ok(None) => (intended_parameters(campaign, spec.point), status, error),
+        Err(why) => (
+            intended_parameters(campaign, spec.point),
+            Status::Failed,
+            Some(format!("the run did not use the campaign's values: {why}")),
+        ),
+    };
     if !keep_runs {
         thin_run_dir(&dir);
     }
@@ -344,16 +537,7 @@ pub fn execute(
         run: spec.index,
         point: spec.point,
         seed: spec.seed,
-        parameters: campaign
-            .point_values(spec.point)
-            .into_iter()
-            .map(|(k, v)| {
-                (
-                    k.to_string(),
-                    serde_json::to_value(v).unwrap_or(serde_json::Value::Null),
-                )
-            })
-            .collect(),
+        parameters,
         status,
         error,
         outcomes,
@@ -378,5 +562,46 @@ fn thin_run_dir(dir: &Path) {
         } else {
             std::fs::remove_file(&path)
         };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn applied_parameters_are_read_back_and_a_value_the_run_did_not_use_is_named() {
+        let campaign = Campaign::from_toml(
+            "scenario = \"hold\"\nseeds = [1]\n[vary]\n\"satellites.initial.radius_m\" = [150]\n",
+            "c.toml",
+            Path::new("."),
+        )
+        .unwrap();
+        let dir = std::env::temp_dir().join(format!("satflock-applied-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert_eq!(applied_parameters(&campaign, 0, &dir), Ok(None));
+        let write = |radius: &str| {
+            std::fs::write(
+                dir.join("scenario.toml"),
+                format!("[satellites.initial]\nradius_m = {radius}\n"),
+            )
+            .unwrap()
+        };
+        write("150.0");
+        let applied = applied_parameters(&campaign, 0, &dir).unwrap().unwrap();
+        assert_eq!(
+            applied["satellites.initial.radius_m"],
+            serde_json::json!(150.0)
+        );
+        write("151.0");
+        let e = applied_parameters(&campaign, 0, &dir).unwrap_err();
+        assert!(
+            e.contains("`satellites.initial.radius_m` = 151.0, not the campaign's 150"),
+            "{e}"
+        );
+        std::fs::write(dir.join("scenario.toml"), "[satellites]\n").unwrap();
+        let e = applied_parameters(&campaign, 0, &dir).unwrap_err();
+        assert!(e.contains("has no `satellites.initial.radius_m`"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

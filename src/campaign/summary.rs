@@ -27,6 +27,65 @@ pub const DEFAULT_OUTCOMES: &[&str] = &[
     "environment.obstacle_incursions",
 ];
 
+/// Every scalar outcome a run's `summary.json` can have (by [`crate::output::outcomes::scalar_outcomes`]),
+/// besides the law's own `law.*` and the components of [`VECTOR_OUTCOMES`]: what a campaign file's
+/// `outcomes` may name.
+pub const KNOWN_OUTCOMES: &[&str] = &[
+    "collisions",
+    "delta_v_mps.max",
+    "delta_v_mps.mean",
+    "duration_s",
+    "environment.closest_threat_approach.minimum.distance_m",
+    "environment.closest_threat_approach.minimum.time_s",
+    "environment.closest_threat_approach.object",
+    "environment.closest_threat_approach.satellite",
+    "environment.min_obstacle_clearance.minimum.clearance_m",
+    "environment.min_obstacle_clearance.minimum.time_s",
+    "environment.min_obstacle_clearance.object",
+    "environment.min_obstacle_clearance.satellite",
+    "environment.obstacle_incursions",
+    "environment.threat_incursions",
+    "final.five_elements.d_max_m",
+    "final.five_elements.d_min_m",
+    "final.five_elements.diameter_m",
+    "final.five_elements.n",
+    "final.five_elements.uniformity_l",
+    "min_separation_m",
+    "n_satellites",
+    "satellite_steps_per_s",
+    "simulated_s",
+    "tai_minus_utc_s",
+    "tt_minus_utc_s",
+    "wall_time_s",
+];
+
+/// Outcomes that are short arrays: `NAME.K` is component K (from 0; per-satellite arrays only for
+/// swarms of at most [`crate::output::outcomes::MAX_VECTOR_LEN`] satellites).
+pub const VECTOR_OUTCOMES: &[&str] = &[
+    "delta_v_mps.mean_per_axis_hill",
+    "delta_v_mps.per_satellite",
+    "environment.min_obstacle_clearance_per_satellite_m",
+    "environment.min_threat_distance_per_satellite_m",
+    "final.five_elements.r_o_m",
+    "final.five_elements.v_o_mps",
+];
+
+/// Whether `name` is an outcome a run can have: one of [`KNOWN_OUTCOMES`], a component `K` of one of
+/// [`VECTOR_OUTCOMES`], or a law's own result `law.NAME` (each law has its own).
+pub fn is_known_outcome(name: &str) -> bool {
+    if KNOWN_OUTCOMES.contains(&name) {
+        return true;
+    }
+    if let Some(rest) = name.strip_prefix("law.") {
+        return !rest.is_empty();
+    }
+    name.rsplit_once('.').is_some_and(|(vector, k)| {
+        VECTOR_OUTCOMES.contains(&vector)
+            && k.parse::<usize>()
+                .is_ok_and(|k| k < crate::output::outcomes::MAX_VECTOR_LEN)
+    })
+}
+
 /// The outcomes to summarise: the campaign file's `outcomes`, or [`DEFAULT_OUTCOMES`] that the table
 /// has followed by its `law.*` columns.
 pub fn headline_outcomes(campaign: &Campaign, table: &RunTable) -> Vec<String> {
@@ -70,8 +129,14 @@ fn short(v: f64) -> String {
     }
 }
 
-/// The text of `summary.md` for `records` (the last record of every finished run) and their `table`.
-pub fn markdown(campaign: &Campaign, records: &[RunRecord], table: &RunTable) -> String {
+/// The text of `summary.md` for `records` (the last record of every finished run) and their `table`;
+/// `dropped` lists the manifest lines `--resume` did not keep.
+pub fn markdown(
+    campaign: &Campaign,
+    records: &[RunRecord],
+    table: &RunTable,
+    dropped: &[String],
+) -> String {
     let count = |status: Status| records.iter().filter(|r| r.status == status).count();
     let mut out = format!("# Campaign `{}`\n\n", campaign.file);
     if !campaign.description.trim().is_empty() {
@@ -115,6 +180,19 @@ pub fn markdown(campaign: &Campaign, records: &[RunRecord], table: &RunTable) ->
         campaign.sha256,
         env!("CARGO_PKG_VERSION")
     ));
+
+    if !dropped.is_empty() {
+        out.push_str(&format!(
+            "## Manifest lines dropped by `--resume`\n\n{} line(s) did not read as a run record or \
+             did not match their run's directory or the campaign; a run that no kept line records as \
+             completed was run again.\n\n",
+            dropped.len()
+        ));
+        for line in dropped {
+            out.push_str(&format!("- {line}\n"));
+        }
+        out.push('\n');
+    }
 
     let keys: Vec<String> = campaign
         .parameters
@@ -197,6 +275,30 @@ pub fn markdown(campaign: &Campaign, records: &[RunRecord], table: &RunTable) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn known_outcomes_are_the_summary_names_the_law_names_and_vector_components() {
+        for name in DEFAULT_OUTCOMES {
+            assert!(is_known_outcome(name), "{name}");
+        }
+        for name in [
+            "law.group_count",
+            "final.five_elements.r_o_m.2",
+            "delta_v_mps.per_satellite.5",
+        ] {
+            assert!(is_known_outcome(name), "{name}");
+        }
+        for name in [
+            "delta_v_mps.meen",
+            "law.",
+            "final.five_elements.r_o_m",
+            "final.five_elements.r_o_m.6",
+            "delta_v_mps.mean.0",
+            "seed",
+        ] {
+            assert!(!is_known_outcome(name), "{name}");
+        }
+    }
 
     #[test]
     fn short_numbers() {

@@ -2,8 +2,9 @@
 //!
 //! Columns: text `status`, `error` (empty when none) and `seed` (decimal: a 64-bit seed does not fit a
 //! double exactly), and `parameter.KEY` for a varied key whose values are not all numbers (their TOML
-//! text); numbers `run`, `point`, `parameter.KEY` for a numeric varied key, then every scalar outcome of
-//! the runs' `summary.json` by its dotted name (a run without it: null).
+//! text); numbers `run`, `point`, `parameter.KEY` for a numeric varied key (the value the run used, from
+//! its record: read back from its `scenario.toml`), then every scalar outcome of the runs'
+//! `summary.json` by its dotted name (a run without it: null).
 
 use super::file::Campaign;
 use super::manifest::RunRecord;
@@ -50,7 +51,9 @@ pub fn build(campaign: &Campaign, records: &[RunRecord]) -> RunTable {
         ];
         for (k, (key, value)) in campaign.point_values(r.point).into_iter().enumerate() {
             let name = format!("{PARAMETER_PREFIX}{key}");
-            match (numeric[k], number(value)) {
+            // A number as the run used it (its record's, read from its scenario.toml).
+            let applied = r.parameters.get(key.as_str()).and_then(|v| v.as_f64());
+            match (numeric[k], applied.or(number(value))) {
                 (true, Some(v)) => numbers.push((name, v)),
                 _ => text.push((name, value.to_string())),
             }

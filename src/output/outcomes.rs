@@ -13,7 +13,7 @@ use std::fs::File;
 use std::path::Path;
 use std::sync::Arc;
 
-use arrow_array::{Array, ArrayRef, Float64Array, RecordBatch, StringArray};
+use arrow_array::{Array, ArrayRef, Float64Array, RecordBatch, StringArray, UInt64Array};
 use arrow_schema::{DataType, Field, Schema};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::arrow::ArrowWriter;
@@ -67,11 +67,15 @@ fn flatten(name: &str, value: &serde_json::Value, out: &mut Vec<(String, f64)>) 
     }
 }
 
-/// A table of runs: text columns, then number columns (NaN: no value, written as null), one row each.
+/// A table of runs: text columns, integer columns, then number columns (NaN: no value, written as
+/// null), one row each.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RunTable {
     /// Text columns by name (e.g. `law`, `status`, `error`), in order.
     pub text: Vec<(String, Vec<String>)>,
+    /// Integer columns by name (e.g. `seed`: exact, where a double rounds integers beyond 2^53), in
+    /// order; [`RunTable::from_rows`] makes none, [`RunTable::push_integers`] adds one.
+    pub integers: Vec<(String, Vec<u64>)>,
     /// Number columns by name (parameters, seed, outcomes), in order.
     pub numbers: Vec<(String, Vec<f64>)>,
 }
@@ -110,8 +114,14 @@ impl RunTable {
         }
         Self {
             text: columns(text_rows, String::new()),
+            integers: Vec::new(),
             numbers: columns(number_rows, f64::NAN),
         }
+    }
+
+    /// Adds an integer column (one value per row) after the integer columns the table has.
+    pub fn push_integers(&mut self, name: &str, values: Vec<u64>) {
+        self.integers.push((name.to_string(), values));
     }
 
     /// Number of rows.
@@ -119,6 +129,7 @@ impl RunTable {
         self.text
             .first()
             .map(|c| c.1.len())
+            .or_else(|| self.integers.first().map(|c| c.1.len()))
             .or_else(|| self.numbers.first().map(|c| c.1.len()))
             .unwrap_or(0)
     }
@@ -126,6 +137,14 @@ impl RunTable {
     /// A number column by name.
     pub fn numbers(&self, name: &str) -> Option<&[f64]> {
         self.numbers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+    }
+
+    /// An integer column by name.
+    pub fn integers(&self, name: &str) -> Option<&[u64]> {
+        self.integers
             .iter()
             .find(|(n, _)| n == name)
             .map(|(_, v)| v.as_slice())
@@ -139,7 +158,8 @@ impl RunTable {
             .map(|(_, v)| v.as_slice())
     }
 
-    /// Writes the table as one Parquet file (text as `Utf8`, numbers as `Float64`, NaN as null), with
+    /// Writes the table as one Parquet file (text as `Utf8`, integers as `UInt64`, numbers as `Float64`,
+    /// NaN as null), with
     /// `metadata` as the file's key-value metadata.
     pub fn write_parquet(&self, path: &Path, metadata: &[(&str, String)]) -> std::io::Result<()> {
         let io =
@@ -149,6 +169,10 @@ impl RunTable {
         for (name, values) in &self.text {
             fields.push(Field::new(name, DataType::Utf8, false));
             arrays.push(Arc::new(StringArray::from(values.clone())));
+        }
+        for (name, values) in &self.integers {
+            fields.push(Field::new(name, DataType::UInt64, false));
+            arrays.push(Arc::new(UInt64Array::from(values.clone())));
         }
         for (name, values) in &self.numbers {
             fields.push(Field::new(name, DataType::Float64, true));
@@ -201,6 +225,12 @@ impl RunTable {
                         Some((_, column)) => column.extend(values),
                         None => table.text.push((name, values.collect())),
                     }
+                } else if let Some(integers) = column.as_any().downcast_ref::<UInt64Array>() {
+                    let values = integers.values().iter().copied();
+                    match table.integers.iter_mut().find(|(n, _)| *n == name) {
+                        Some((_, column)) => column.extend(values),
+                        None => table.integers.push((name, values.collect())),
+                    }
                 } else if let Some(numbers) = column.as_any().downcast_ref::<Float64Array>() {
                     let values = (0..numbers.len()).map(|k| {
                         if numbers.is_null(k) {
@@ -215,7 +245,7 @@ impl RunTable {
                     }
                 } else {
                     return Err(fail(format!(
-                        "column `{name}` is {} (a run table holds Utf8 and Float64 columns)",
+                        "column `{name}` is {} (a run table holds Utf8, UInt64 and Float64 columns)",
                         field.data_type()
                     )));
                 }
@@ -228,6 +258,25 @@ impl RunTable {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn integer_columns_round_trip_exactly_beyond_2_to_the_53() {
+        let seeds = vec![u64::MAX, (1 << 53) + 1, 0];
+        let mut table = RunTable::from_rows(
+            &vec![vec![("law".to_string(), "a".to_string())]; 3],
+            &vec![vec![("x".to_string(), 1.5)]; 3],
+        );
+        table.push_integers("seed", seeds.clone());
+        let dir = std::env::temp_dir().join(format!("satflock-run-table-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.parquet");
+        table.write_parquet(&path, &[]).unwrap();
+        let back = RunTable::read_parquet(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(back.integers("seed"), Some(seeds.as_slice()));
+        assert_eq!(back, table);
+        assert_eq!(back.rows(), 3);
+    }
 
     #[test]
     fn flattens_numbers_vectors_and_objects_and_leaves_out_the_rest() {
