@@ -432,12 +432,16 @@ impl SummaryContext {
                 Some(_) => RunStatus::Failed,
             },
             error: error.map(|e| e.text()),
-            warnings: run_warnings(
-                totals.max_collisions,
-                totals.min_separation_m,
-                &ledger,
-                budget_mps,
-            ),
+            warnings: {
+                let mut warnings = run_warnings(
+                    totals.max_collisions,
+                    totals.min_separation_m,
+                    &ledger,
+                    budget_mps,
+                );
+                warnings.extend(obstacle_warning(simulation));
+                warnings
+            },
             n_satellites: n,
             duration_s: self.duration_s,
             simulated_s: simulation.time_s(),
@@ -647,6 +651,24 @@ fn run_warnings(
     warnings
 }
 
+/// The warning of satellites that entered obstacles (the monitor's count, and the deepest point).
+fn obstacle_warning(simulation: &Simulation) -> Option<String> {
+    let monitor = simulation.approach_monitor();
+    let incursions = monitor.total_obstacle_incursions();
+    let deepest = monitor.swarm_obstacle_minimum()?;
+    (incursions > 0).then(|| {
+        format!(
+            "obstacle incursions: {incursions} entr{} of satellites into obstacles (deepest: satellite \
+             {} in `{}`, {:.4} m inside at t = {} s)",
+            if incursions == 1 { "y" } else { "ies" },
+            deepest.satellite,
+            simulation.config().obstacles[deepest.object].name(),
+            -deepest.minimum.clearance_m,
+            deepest.minimum.time_s
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -664,6 +686,32 @@ mod tests {
             "{}",
             w[1]
         );
+    }
+
+    /// Issue 25: a satellite crossing an obstacle was counted in `environment` only; it is a warning
+    /// of the summary (and so of stderr) too.
+    #[test]
+    fn regress_obstacle_incursion_is_a_warning() {
+        let text = "name = \"rock\"\nseed = 1\nduration_s = 100.0\nrecord_interval_s = 10.0\n\
+                    [reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n\
+                    [satellites]\ncount = 1\nmass_kg = 1.0\n\
+                    initial = { distribution = \"list\", states = [[0.0, 0.0, 0.0, 0.0, 1.0, 0.0]] }\n\
+                    [law]\nname = \"none\"\n\
+                    [[obstacles]]\nname = \"rock\"\ncenter_hill_m = [0.0, 50.0, 0.0]\nradius_m = 10.0\n";
+        let scenario = Scenario::from_toml(text, "rock.toml", Path::new(".")).unwrap();
+        let dir = std::env::temp_dir().join(format!("satflock-rock-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let summary = run_scenario(&scenario, &dir, &mut |_| {}).unwrap();
+        let warning = summary
+            .warnings
+            .iter()
+            .find(|w| w.starts_with("obstacle incursions"))
+            .unwrap_or_else(|| panic!("no obstacle warning in {:?}", summary.warnings));
+        assert!(
+            warning.contains("1 entry") && warning.contains("satellite 0 in `rock`"),
+            "{warning}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

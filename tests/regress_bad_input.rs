@@ -663,3 +663,92 @@ fn regress_event_law_beyond_the_sensing_range_is_refused_at_load() {
         other => panic!("expected a refusal, got {:?}", other.err()),
     }
 }
+
+// ---- Issue 25: silent acceptance ----
+
+/// A step below the engine's time tolerance (`step_s = 1e-10` over 1e-6 s) was never integrated and the
+/// run "completed"; a control period likewise. Both are refused at load, naming the key and the range.
+#[test]
+fn regress_step_below_the_time_tolerance_is_refused() {
+    let tiny = VALID
+        .replace("duration_s = 100.0", "duration_s = 1e-6")
+        .replace("record_interval_s = 10.0", "record_interval_s = 1e-6");
+    refused_text(
+        &tiny.replace("[law]", "[dynamics]\nstep_s = 1e-10\n\n[law]"),
+        Path::new("."),
+        "dynamics.step_s",
+        &[
+            "1e-10 s is out of range",
+            "allowed: finite, >= 1e-6 s",
+            "tolerance",
+        ],
+    );
+    refused_text(
+        &tiny.replace(
+            "[law]",
+            "[dynamics]\nstep_s = 1e-6\n\n[control]\nmode = \"sampled\"\nperiod_s = 1e-8\n\n[law]",
+        ),
+        Path::new("."),
+        "control.period_s",
+        &["allowed: finite, >= 1e-6 s"],
+    );
+    // The smallest step allowed still loads.
+    load_in(
+        &tiny.replace("[law]", "[dynamics]\nstep_s = 1e-6\n\n[law]"),
+        Path::new("."),
+    )
+    .unwrap();
+}
+
+/// A sphere of initial states centred inside the Earth ran to `completed`: refused at load.
+#[test]
+fn regress_initial_states_inside_the_earth_are_refused() {
+    refused(
+        SPHERE,
+        "initial = { distribution = \"sphere\", radius_m = 50.0, center_hill_m = [-7e6, 0.0, 0.0] }",
+        "satellites.initial",
+        &["starts inside the Earth", "allowed: every satellite at least the Earth's radius"],
+    );
+    // 600 km below the reference is still above the ground.
+    load_in(
+        &VALID.replace(
+            SPHERE,
+            "initial = { distribution = \"sphere\", radius_m = 50.0, center_hill_m = [-500e3, 0.0, 0.0] }",
+        ),
+        Path::new("."),
+    )
+    .unwrap();
+}
+
+/// Satellites starting inside an obstacle were accepted (overlapping satellites are refused): refused
+/// at load unless `satellites.allow_start_in_obstacle = true`.
+#[test]
+fn regress_start_inside_an_obstacle_is_refused_unless_allowed() {
+    let rock =
+        "\n[[obstacles]]\nname = \"rock\"\ncenter_hill_m = [0.0, 0.0, 0.0]\nradius_m = 500.0\n";
+    let text = format!("{VALID}{rock}");
+    let message = refused_text(
+        &text,
+        Path::new("."),
+        "satellites.allow_start_in_obstacle",
+        &[
+            "inside obstacles[0] (`rock`)",
+            "allow_start_in_obstacle = true",
+        ],
+    );
+    assert!(message.contains("satellite 0"), "{message}");
+    let allowed = text.replace(
+        "radius_m = 0.5\n",
+        "radius_m = 0.5\nallow_start_in_obstacle = true\n",
+    );
+    load_in(&allowed, Path::new(".")).unwrap();
+    // An obstacle away from the swarm is fine.
+    load_in(
+        &text.replace(
+            "center_hill_m = [0.0, 0.0, 0.0]",
+            "center_hill_m = [0.0, 5e3, 0.0]",
+        ),
+        Path::new("."),
+    )
+    .unwrap();
+}

@@ -270,6 +270,10 @@ pub struct SatellitesSection {
     /// collision from the first step.
     #[serde(default)]
     pub allow_initial_overlap: bool,
+    /// Accept satellites that start inside an obstacle (closer to its centre than its radius). Default
+    /// `false`: such a start is refused, since the obstacle monitor counts an incursion at t = 0.
+    #[serde(default)]
+    pub allow_start_in_obstacle: bool,
 }
 
 /// Frames an explicit list of initial states can be written in.

@@ -30,6 +30,10 @@ use crate::swarm::{
 /// count is almost always a step or duration in the wrong unit.
 const MAX_SATELLITE_STEPS: f64 = 1e10;
 
+/// Shortest `dynamics.step_s` and `control.period_s` \[s\]: 1000 × the engine's time tolerance
+/// ([`crate::swarm::TIME_EPSILON`], relative to 1 s), so that every step is an instant of its own.
+const MIN_STEP_S: f64 = 1e-6;
+
 /// Largest number of CSV rows (recordings × satellites with a trajectory, recordings without) accepted
 /// without `[output] allow_large = true`: about 10 GB of text.
 const MAX_OUTPUT_ROWS: f64 = 5e7;
@@ -169,6 +173,22 @@ impl Checker<'_> {
         }
     }
 
+    /// A step or period \[s\]: finite and at least [`MIN_STEP_S`] (a shorter one is below the engine's
+    /// time tolerance and would never be taken).
+    fn step(&self, key: &str, value: f64) -> Result<f64, ScenarioError> {
+        if value.is_finite() && value >= MIN_STEP_S {
+            Ok(value)
+        } else {
+            Err(self.invalid(
+                key,
+                format!(
+                    "{value:e} s is out of range (allowed: finite, >= {MIN_STEP_S:e} s: a shorter step \
+                     is below the engine's time tolerance and would never be integrated)"
+                ),
+            ))
+        }
+    }
+
     /// `value` must be finite and >= 0.
     fn non_negative(&self, key: &str, value: f64) -> Result<f64, ScenarioError> {
         if value.is_finite() && value >= 0.0 {
@@ -233,7 +253,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
 
     // Dynamics and integration.
     let dy = &f.dynamics;
-    let step_s = c.positive("dynamics.step_s", dy.step_s)?;
+    let step_s = c.step("dynamics.step_s", dy.step_s)?;
     let rtol = c.positive("dynamics.rtol", dy.rtol)?;
     if rtol >= 1.0 {
         return Err(c.invalid(
@@ -331,7 +351,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             return Err(c.invalid("control.period_s", "is required with mode = \"sampled\""))
         }
         (ControlMode::Sampled, Some(p)) => {
-            let p = c.positive("control.period_s", p)?;
+            let p = c.step("control.period_s", p)?;
             if dy.model != ModelName::Kinematic && p > max_step_s {
                 return Err(c.invalid(
                     "control.period_s",
@@ -541,6 +561,14 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             .map_err(|e| force_error(&c, e, "", Some(id)))?;
     }
     let reference_properties = reference_properties(&c, &f.reference, &satellites, drag, srp)?;
+    if dy.model != ModelName::Kinematic {
+        check_initial_above_ground(
+            &c,
+            &satellites,
+            reference.position_m.norm(),
+            earth.equatorial_radius_m,
+        )?;
+    }
     check_initial_distances(&c, &satellites, origin, max_distance_m)?;
     if !s.allow_initial_overlap {
         check_initial_overlap(&c, &satellites)?;
@@ -588,6 +616,9 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     }
     let threats = threats(&c, &f.threats)?;
     let obstacles = obstacles(&c, &f.obstacles)?;
+    if !s.allow_start_in_obstacle {
+        check_initial_outside_obstacles(&c, &satellites, origin, &obstacles)?;
+    }
 
     let config = SimulationConfig {
         earth,
@@ -1279,6 +1310,67 @@ fn check_initial_distances(
                      <= dynamics.max_distance_m; raise it or move the satellite)"
                 ),
             ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a satellite that starts inside the Earth: its geocentric distance, the reference orbit's
+/// radius `reference_radius_m` plus its Hill offset (x radial), below `earth_radius_m` \[m\].
+fn check_initial_above_ground(
+    c: &Checker<'_>,
+    satellites: &[SatelliteInit],
+    reference_radius_m: f64,
+    earth_radius_m: f64,
+) -> Result<(), ScenarioError> {
+    for (i, sat) in satellites.iter().enumerate() {
+        let p = sat.relative_state.position_m;
+        let r = Vector3::new(reference_radius_m + p.x, p.y, p.z).norm();
+        if r < earth_radius_m {
+            return Err(c.invalid(
+                "satellites.initial",
+                format!(
+                    "satellite {i} starts inside the Earth: {r:.6e} m from its centre (the reference \
+                     orbit's radius {reference_radius_m:.6e} m plus the Hill offset [{:.6e}, {:.6e}, \
+                     {:.6e}] m) (allowed: every satellite at least the Earth's radius \
+                     {earth_radius_m:.6e} m from its centre; check the offsets and their unit, metres)",
+                    p.x, p.y, p.z
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a satellite that starts inside an obstacle (its position, a point, closer to the obstacle's
+/// centre than its radius, in the frame of the run's origin): the obstacle monitor would count an
+/// incursion at t = 0.
+fn check_initial_outside_obstacles(
+    c: &Checker<'_>,
+    satellites: &[SatelliteInit],
+    origin: Origin,
+    obstacles: &[Obstacle],
+) -> Result<(), ScenarioError> {
+    let centre = match origin {
+        Origin::Member(k) => satellites[k].relative_state.position_m,
+        Origin::VirtualReference => Vector3::zeros(),
+    };
+    for (k, obstacle) in obstacles.iter().enumerate() {
+        for (i, sat) in satellites.iter().enumerate() {
+            let clearance = obstacle.surface_distance_m(&(sat.relative_state.position_m - centre));
+            if clearance < 0.0 {
+                return Err(c.invalid(
+                    "satellites.allow_start_in_obstacle",
+                    format!(
+                        "satellite {i} starts inside obstacles[{k}] (`{}`), {:.6e} m below its surface \
+                         (allowed: every satellite outside every obstacle at t = 0; move the initial \
+                         distribution or the obstacle, or set satellites.allow_start_in_obstacle = true \
+                         to run it anyway)",
+                        obstacle.name(),
+                        -clearance
+                    ),
+                ));
+            }
         }
     }
     Ok(())

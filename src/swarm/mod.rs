@@ -29,6 +29,6 @@ pub use law::{
 pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{
     check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
-    Simulation, SimulationConfig, StageTimings,
+    Simulation, SimulationConfig, StageTimings, TIME_EPSILON,
 };
 pub use state::SwarmState;

@@ -97,6 +97,11 @@ pub struct SimulationConfig {
     pub seed: u64,
 }
 
+/// The engine's relative time tolerance: two instants closer than `TIME_EPSILON × max(base step,
+/// 1 s)` are the same instant ([`SimulationConfig::time_epsilon_s`]); a step shorter than that would
+/// never be taken, so the scenario layer refuses steps below 1000 × `TIME_EPSILON` seconds.
+pub const TIME_EPSILON: f64 = 1e-9;
+
 impl SimulationConfig {
     /// Base step: the control period in sampled mode, the integration step in continuous mode \[s\].
     pub fn base_step_s(&self) -> f64 {
@@ -104,6 +109,11 @@ impl SimulationConfig {
             ControlTiming::Sampled { period_s } => period_s,
             ControlTiming::Continuous => self.step_s,
         }
+    }
+
+    /// The time tolerance of the run's clock \[s\]: [`TIME_EPSILON`] × max(base step, 1 s).
+    pub fn time_epsilon_s(&self) -> f64 {
+        TIME_EPSILON * self.base_step_s().max(1.0)
     }
 }
 

@@ -48,7 +48,7 @@ use nalgebra::Vector3;
 
 pub use config::{
     check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
-    SimulationConfig,
+    SimulationConfig, TIME_EPSILON,
 };
 
 use crate::environment::ApproachMonitor;

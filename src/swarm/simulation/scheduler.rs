@@ -81,7 +81,7 @@ impl Simulation {
         let record = self.config.record_interval_s;
         let duration = self.config.duration_s;
         let end = time_s.min(duration);
-        let eps = 1e-9 * base.max(1.0);
+        let eps = self.config.time_epsilon_s();
         if !self.clock.started {
             self.clock.started = true;
             if let Some(recorder) = recorder.as_deref_mut() {

@@ -16,7 +16,7 @@ pub(super) struct Timeline {
 impl Simulation {
     /// Applies every pending event whose time has come (in time order, file order for equal times).
     pub(super) fn apply_due_events(&mut self) -> Result<(), SimError> {
-        let eps = 1e-9 * self.config.base_step_s().max(1.0);
+        let eps = self.config.time_epsilon_s();
         while self
             .timeline
             .events
