@@ -27,14 +27,7 @@ fn swarm_state(n: usize) -> Vec<f64> {
             }
             .to_cartesian(mu)
             .unwrap();
-            [
-                s.position_m.x,
-                s.position_m.y,
-                s.position_m.z,
-                s.velocity_mps.x,
-                s.velocity_mps.y,
-                s.velocity_mps.z,
-            ]
+            s.to_array()
         })
         .collect()
 }

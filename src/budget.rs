@@ -96,9 +96,8 @@ use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::{
-    egm96_zonal_coefficients, AltitudeName, AtmosphereName, Bodies, BodyName, Drag, DragConfig,
-    ForceModel, Instant, PhysicalProperties, ShadowName, SolarRadiationPressure, ThirdBody,
-    ZonalGravity,
+    egm96_zonal_coefficients, AtmosphereName, Bodies, BodyName, Drag, DragConfig, ForceModel,
+    Instant, PhysicalProperties, ShadowName, SolarRadiationPressure, ThirdBody, ZonalGravity,
 };
 use crate::orbit::EarthModel;
 
@@ -199,25 +198,12 @@ impl BudgetInput {
     /// The drag of the budget's default: Harris–Priester (Montenbruck & Gill's table, cosine exponent
     /// 4, bulge lag 30°), co-rotating, at spherical altitude.
     pub fn harris_priester() -> DragConfig {
-        Self::atmosphere(AtmosphereName::HarrisPriester)
+        DragConfig::new(AtmosphereName::HarrisPriester)
     }
 
     /// Vallado's piecewise exponential table (static, no Sun), co-rotating, at spherical altitude.
     pub fn exponential_table() -> DragConfig {
-        Self::atmosphere(AtmosphereName::ExponentialTable)
-    }
-
-    fn atmosphere(atmosphere: AtmosphereName) -> DragConfig {
-        DragConfig {
-            atmosphere,
-            reference_density_kg_per_m3: None,
-            reference_altitude_m: None,
-            scale_height_m: None,
-            cosine_exponent: None,
-            lag_deg: None,
-            corotation: true,
-            altitude: AltitudeName::Spherical,
-        }
+        DragConfig::new(AtmosphereName::ExponentialTable)
     }
 
     /// Checks every value against its range. The error's key is the field (`altitude_m`,

@@ -102,14 +102,7 @@ fn initial_state() -> [f64; 6] {
         true_anomaly_rad: 0.0,
     };
     let s = elements.to_cartesian(EARTH.mu_m3_s2).unwrap();
-    [
-        s.position_m.x,
-        s.position_m.y,
-        s.position_m.z,
-        s.velocity_mps.x,
-        s.velocity_mps.y,
-        s.velocity_mps.z,
-    ]
+    s.to_array()
 }
 
 /// The density of the layer at `state`'s height above the sphere \[kg/m^3\], written here from the

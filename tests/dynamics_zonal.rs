@@ -57,14 +57,7 @@ fn orbit_means(
     let period = EARTH.period_s(elements.semi_major_axis_m);
     let dt = period / SAMPLES as f64;
     let start = elements.to_cartesian(EARTH.mu_m3_s2).unwrap();
-    let mut y = [
-        start.position_m.x,
-        start.position_m.y,
-        start.position_m.z,
-        start.velocity_mps.x,
-        start.velocity_mps.y,
-        start.velocity_mps.z,
-    ];
+    let mut y = start.to_array();
     let system = rhs(gravity);
     let mut stepper = AdaptiveStepper::<Dop853>::new(6, TOLERANCES);
     let mut out = Vec::with_capacity(orbits);
@@ -163,19 +156,26 @@ const ORBITS: usize = 74;
 /// 3/2, sin i, (R/p)^3 vs (R/a)^3 = 6e-3) would show at 6e-3 or more.
 const RATE_TOLERANCE: f64 = 1e-4;
 
-#[test]
-fn j3_alone_drives_the_kozai_long_period_eccentricity_rate() {
+/// A J3-only run (J2 = 0, so the perigee stays where it starts) from the LEO with the argument of
+/// perigee `arg_perigee_deg`: the orbit means, their times \[s\], the fitted dh/dt \[1/s\] and the
+/// Kozai rate K \[1/s\].
+fn j3_run(arg_perigee_deg: f64) -> (Vec<OrbitMean>, Vec<f64>, f64, f64) {
     let j3 = egm96_zonal_coefficients(3)[1];
-    // J2 = 0: point mass + J3 only, so omega stays at 0 and de/dt = -K cos(0) = -K (constant).
     let gravity = ZonalGravity::new(&EARTH, vec![0.0, j3]);
-    let elements = leo(0.0);
+    let elements = leo(arg_perigee_deg);
     let means = orbit_means(&gravity, &elements, ORBITS);
     let t: Vec<f64> = means.iter().map(|m| m.t_s).collect();
-    let e: Vec<f64> = means.iter().map(|m| m.e).collect();
     let h: Vec<f64> = means.iter().map(|m| m.h).collect();
-    let (de_dt, rms) = slope(&t, &e);
     let (dh_dt, _) = slope(&t, &h);
-    let k_rate = kozai_j3_rate(&elements, j3);
+    (means, t, dh_dt, kozai_j3_rate(&elements, j3))
+}
+
+#[test]
+fn j3_alone_drives_the_kozai_long_period_eccentricity_rate() {
+    // omega = 0: de/dt = -K cos(0) = -K (constant).
+    let (means, t, dh_dt, k_rate) = j3_run(0.0);
+    let e: Vec<f64> = means.iter().map(|m| m.e).collect();
+    let (de_dt, rms) = slope(&t, &e);
     let analytic = -k_rate;
     let rel = (de_dt - analytic).abs() / analytic.abs();
     eprintln!(
@@ -199,16 +199,9 @@ fn j3_drift_is_along_the_line_of_nodes_whatever_the_perigee() {
     // omega = 90 deg: de/dt = -K cos(omega) = 0 at the start, while the eccentricity vector still
     // drifts by dk/dt = -K along the line of nodes (the perigee turns toward it, e domega/dt =
     // K sin omega): the cos(omega) of the rate and its vector form in one run.
-    let j3 = egm96_zonal_coefficients(3)[1];
-    let gravity = ZonalGravity::new(&EARTH, vec![0.0, j3]);
-    let elements = leo(90.0);
-    let means = orbit_means(&gravity, &elements, ORBITS);
-    let t: Vec<f64> = means.iter().map(|m| m.t_s).collect();
+    let (means, t, dh_dt, k_rate) = j3_run(90.0);
     let k: Vec<f64> = means.iter().map(|m| m.k).collect();
-    let h: Vec<f64> = means.iter().map(|m| m.h).collect();
     let (dk_dt, _) = slope(&t, &k);
-    let (dh_dt, _) = slope(&t, &h);
-    let k_rate = kozai_j3_rate(&elements, j3);
     // de/dt over the first three orbits, where e = sqrt(h^2 + k^2) has barely turned: ~0.
     let (de_dt_start, _) = slope(&t[..3], &means[..3].iter().map(|m| m.e).collect::<Vec<_>>());
     let rel = (dk_dt + k_rate).abs() / k_rate.abs();
@@ -245,14 +238,7 @@ fn egm96_to_degree_20_conserves_energy_and_polar_angular_momentum() {
         |r: &Vector3<f64>, v: &Vector3<f64>| 0.5 * v.norm_squared() - gravity.potential_m2_s2(r);
     let e0 = energy(&start.position_m, &start.velocity_mps);
     let hz0 = start.position_m.cross(&start.velocity_mps).z;
-    let mut y = [
-        start.position_m.x,
-        start.position_m.y,
-        start.position_m.z,
-        start.velocity_mps.x,
-        start.velocity_mps.y,
-        start.velocity_mps.z,
-    ];
+    let mut y = start.to_array();
     let system = rhs(&gravity);
     let mut stepper = AdaptiveStepper::<Dop853>::new(6, TOLERANCES);
     let (mut worst_e, mut worst_h, mut worst_two_body) = (0.0f64, 0.0f64, 0.0f64);

@@ -99,6 +99,23 @@ pub struct DragConfig {
     pub altitude: AltitudeName,
 }
 
+impl DragConfig {
+    /// The `[drag]` table of `atmosphere` with its defaults: co-rotating air, spherical altitude, no
+    /// atmosphere parameter given (an exponential layer still needs its three).
+    pub fn new(atmosphere: AtmosphereName) -> Self {
+        Self {
+            atmosphere,
+            reference_density_kg_per_m3: None,
+            reference_altitude_m: None,
+            scale_height_m: None,
+            cosine_exponent: None,
+            lag_deg: None,
+            corotation: true,
+            altitude: AltitudeName::Spherical,
+        }
+    }
+}
+
 fn yes() -> bool {
     true
 }

@@ -230,21 +230,8 @@ impl ForceModel for Drag {
 mod tests {
     use super::*;
 
-    fn config(atmosphere: AtmosphereName) -> DragConfig {
-        DragConfig {
-            atmosphere,
-            reference_density_kg_per_m3: None,
-            reference_altitude_m: None,
-            scale_height_m: None,
-            cosine_exponent: None,
-            lag_deg: None,
-            corotation: true,
-            altitude: AltitudeName::Spherical,
-        }
-    }
-
     fn exponential_config() -> DragConfig {
-        let mut c = config(AtmosphereName::Exponential);
+        let mut c = DragConfig::new(AtmosphereName::Exponential);
         c.reference_density_kg_per_m3 = Some(3.725e-12);
         c.reference_altitude_m = Some(400e3);
         c.scale_height_m = Some(58_515.0);
@@ -409,7 +396,8 @@ mod tests {
             "drag (exponential, co-rotating, geodetic altitude)"
         );
 
-        let drag = Drag::from_config(&config(AtmosphereName::ExponentialTable), &earth).unwrap();
+        let drag =
+            Drag::from_config(&DragConfig::new(AtmosphereName::ExponentialTable), &earth).unwrap();
         assert_eq!(drag.fast_exponential(), None);
         assert_eq!(drag.bodies(), Bodies::default());
         assert_eq!(
@@ -417,7 +405,8 @@ mod tests {
             "drag (exponential-table, co-rotating, spherical altitude)"
         );
 
-        let drag = Drag::from_config(&config(AtmosphereName::HarrisPriester), &earth).unwrap();
+        let drag =
+            Drag::from_config(&DragConfig::new(AtmosphereName::HarrisPriester), &earth).unwrap();
         assert_eq!(drag.fast_exponential(), None);
         assert_eq!(
             drag.bodies(),
@@ -445,7 +434,7 @@ mod tests {
             (e.key.as_str(), e.value.as_str()),
             ("drag.reference_altitude_m", "missing")
         );
-        let mut c = config(AtmosphereName::HarrisPriester);
+        let mut c = DragConfig::new(AtmosphereName::HarrisPriester);
         c.cosine_exponent = Some(7.0);
         assert_eq!(
             Drag::from_config(&c, &earth).unwrap_err().key,
@@ -485,7 +474,8 @@ mod tests {
             drag_acceleration_m_s2(rho, properties.drag_area_per_mass_m2_per_kg(), &r, &v, true)
         );
 
-        let drag = Drag::from_config(&config(AtmosphereName::HarrisPriester), &earth).unwrap();
+        let drag =
+            Drag::from_config(&DragConfig::new(AtmosphereName::HarrisPriester), &earth).unwrap();
         // The satellite on +x at 420 km (a table row: rho_min = 1.558e-12, rho_max = 5.684e-12), the
         // apex 30° east of the Sun: psi = 30°, cos^4(15°) = ((1 + cos 30°)/2)^2 =
         // 0.87051270189221932 (mpmath). Tolerance 2e-15: the apex rotation, normalisation and dot

@@ -34,7 +34,6 @@
 
 use nalgebra::Vector3;
 
-use super::{ForceModel, Instant, PhysicalProperties};
 use crate::orbit::EarthModel;
 
 /// The highest degree whose EGM96 zonal coefficient is built in (J2..J20).
@@ -205,22 +204,6 @@ impl ZonalGravity {
     }
 }
 
-impl ForceModel for ZonalGravity {
-    fn name(&self) -> String {
-        format!("gravity (zonal J2..J{})", self.degree())
-    }
-
-    fn acceleration_eci_m_s2(
-        &self,
-        _at: &Instant,
-        position_eci_m: &Vector3<f64>,
-        _velocity_eci_mps: &Vector3<f64>,
-        _properties: &PhysicalProperties,
-    ) -> Vector3<f64> {
-        self.acceleration_m_s2(position_eci_m)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     //! References used here are independent of the code: closed forms of P2..P6, the exact field on
@@ -228,7 +211,7 @@ mod tests {
     //! gradient of the potential and a second transcription of the EGM96 zonals.
 
     use super::*;
-    use crate::dynamics::Bodies;
+    use crate::dynamics::{Bodies, ForceModel, Gravity, Instant, PhysicalProperties};
     use crate::orbit::GravityModel;
 
     const EARTH: EarthModel = EarthModel::WGS84_EGM96;
@@ -331,11 +314,13 @@ mod tests {
         let z = ZonalGravity::new(&EARTH, egm96_zonal_coefficients(8));
         assert_eq!(z.degree(), 8);
         assert_eq!(z.coefficients().len(), 7);
-        assert_eq!(z.name(), "gravity (zonal J2..J8)");
-        assert_eq!(z.bodies(), Bodies::default());
         assert_eq!(ZonalGravity::new(&EARTH, vec![1e-3; 49]).degree(), 50);
+        // In a force set the zonal field is a `Gravity`, named by its degree, reading only the position.
+        let gravity = Gravity::Zonal(z.clone());
+        assert_eq!(gravity.name(), "gravity (zonal J2..J8)");
+        assert_eq!(gravity.bodies(), Bodies::default());
         let p = at(7.0e6, 0.4, 1.1);
-        let a = z.acceleration_eci_m_s2(
+        let a = gravity.acceleration_eci_m_s2(
             &Instant::new(1.0e8, Bodies::default()),
             &p,
             &Vector3::new(1.0, 2.0, 3.0),

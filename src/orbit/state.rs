@@ -22,6 +22,12 @@ impl CartesianState {
         }
     }
 
+    /// `[x, y, z, vx, vy, vz]`, ECI \[m, m/s\]: the flat layout of the integrators' state slices.
+    pub fn to_array(&self) -> [f64; 6] {
+        let (p, v) = (self.position_m, self.velocity_mps);
+        [p.x, p.y, p.z, v.x, v.y, v.z]
+    }
+
     /// Two-body specific orbital energy `v^2/2 - mu/r` \[J/kg = m^2/s^2\] for the gravitational
     /// parameter `mu` \[m^3/s^2\]. Negative for a bound (elliptic) orbit.
     pub fn specific_energy_j_kg(&self, mu: f64) -> f64 {

@@ -97,7 +97,9 @@ impl Exponential {
     #[inline(always)]
     pub fn density_at_kg_per_m3(&self, altitude_m: f64) -> f64 {
         self.reference_density_kg_per_m3
-            * super::exp::exp((self.reference_altitude_m - altitude_m) * (1.0 / self.scale_height_m))
+            * super::exp::exp(
+                (self.reference_altitude_m - altitude_m) * (1.0 / self.scale_height_m),
+            )
     }
 }
 

@@ -343,14 +343,8 @@ mod tests {
     #[test]
     fn defaults_and_validation() {
         let mut config = DragConfig {
-            atmosphere: crate::dynamics::config::AtmosphereName::HarrisPriester,
-            reference_density_kg_per_m3: None,
-            reference_altitude_m: None,
-            scale_height_m: None,
-            cosine_exponent: None,
-            lag_deg: None,
-            corotation: true,
             altitude: crate::dynamics::config::AltitudeName::Geodetic,
+            ..DragConfig::new(crate::dynamics::config::AtmosphereName::HarrisPriester)
         };
         let hp = HarrisPriester::from_config(&config).unwrap();
         assert_eq!(hp.cosine_exponent, 4.0);

@@ -114,34 +114,20 @@ pub(crate) fn refuse_harris_priester_keys(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::config::AltitudeName;
-
-    fn config(atmosphere: AtmosphereName) -> DragConfig {
-        DragConfig {
-            atmosphere,
-            reference_density_kg_per_m3: None,
-            reference_altitude_m: None,
-            scale_height_m: None,
-            cosine_exponent: None,
-            lag_deg: None,
-            corotation: true,
-            altitude: AltitudeName::Spherical,
-        }
-    }
 
     #[test]
     fn build_names_each_model() {
-        let mut exp = config(AtmosphereName::Exponential);
+        let mut exp = DragConfig::new(AtmosphereName::Exponential);
         exp.reference_density_kg_per_m3 = Some(3.725e-12);
         exp.reference_altitude_m = Some(400e3);
         exp.scale_height_m = Some(58_515.0);
         let built = build(&exp).unwrap();
         assert_eq!(built.name(), "exponential");
         assert!(!built.uses_sun());
-        let table = build(&config(AtmosphereName::ExponentialTable)).unwrap();
+        let table = build(&DragConfig::new(AtmosphereName::ExponentialTable)).unwrap();
         assert_eq!(table.name(), "exponential-table");
         assert!(!table.uses_sun());
-        let hp = build(&config(AtmosphereName::HarrisPriester)).unwrap();
+        let hp = build(&DragConfig::new(AtmosphereName::HarrisPriester)).unwrap();
         assert_eq!(hp.name(), "harris-priester");
         assert!(hp.uses_sun());
         for model in [built, table, hp] {
@@ -152,7 +138,7 @@ mod tests {
     #[test]
     fn exponential_requires_each_key() {
         let full = || {
-            let mut c = config(AtmosphereName::Exponential);
+            let mut c = DragConfig::new(AtmosphereName::Exponential);
             c.reference_density_kg_per_m3 = Some(3.725e-12);
             c.reference_altitude_m = Some(400e3);
             c.scale_height_m = Some(58_515.0);
@@ -189,26 +175,26 @@ mod tests {
             AtmosphereName::ExponentialTable,
             AtmosphereName::HarrisPriester,
         ] {
-            let mut c = config(name);
+            let mut c = DragConfig::new(name);
             c.scale_height_m = Some(58_515.0);
             let e = build(&c).unwrap_err();
             assert_eq!(e.key, "drag.scale_height_m");
             assert_eq!(e.value, "58515");
             assert!(e.allowed.contains("\"exponential\""), "{e}");
-            let mut c = config(name);
+            let mut c = DragConfig::new(name);
             c.reference_density_kg_per_m3 = Some(1e-12);
             assert_eq!(
                 build(&c).unwrap_err().key,
                 "drag.reference_density_kg_per_m3"
             );
-            let mut c = config(name);
+            let mut c = DragConfig::new(name);
             c.reference_altitude_m = Some(4e5);
             assert_eq!(build(&c).unwrap_err().key, "drag.reference_altitude_m");
         }
-        let mut c = config(AtmosphereName::ExponentialTable);
+        let mut c = DragConfig::new(AtmosphereName::ExponentialTable);
         c.cosine_exponent = Some(4.0);
         assert_eq!(build(&c).unwrap_err().key, "drag.cosine_exponent");
-        let mut c = config(AtmosphereName::ExponentialTable);
+        let mut c = DragConfig::new(AtmosphereName::ExponentialTable);
         c.lag_deg = Some(30.0);
         assert_eq!(build(&c).unwrap_err().key, "drag.lag_deg");
     }
@@ -217,14 +203,14 @@ mod tests {
     /// the surface and below it.
     #[test]
     fn below_the_floor_density_is_finite() {
-        let mut exp = config(AtmosphereName::Exponential);
+        let mut exp = DragConfig::new(AtmosphereName::Exponential);
         exp.reference_density_kg_per_m3 = Some(3.725e-12);
         exp.reference_altitude_m = Some(400e3);
         exp.scale_height_m = Some(58_515.0);
         let models = [
             build(&exp).unwrap(),
-            build(&config(AtmosphereName::ExponentialTable)).unwrap(),
-            build(&config(AtmosphereName::HarrisPriester)).unwrap(),
+            build(&DragConfig::new(AtmosphereName::ExponentialTable)).unwrap(),
+            build(&DragConfig::new(AtmosphereName::HarrisPriester)).unwrap(),
         ];
         let r = Vector3::new(6.4e6, 0.0, 0.0);
         let sun = Vector3::new(1.5e11, 0.0, 0.0);
