@@ -80,10 +80,13 @@ class Scenario:
     @staticmethod
     def from_toml(text: str, source: str = "<toml>", base_dir: str = ".") -> "Scenario":
         """A scenario from TOML text; `source` names it in error messages, `base_dir` resolves the relative
-        paths in it."""
+        paths in it. Validated fully, as `satflock run` does before it starts: a bad value (a NaN
+        `duration_s`) raises `ScenarioError` here, naming the key."""
     @staticmethod
     def from_dict(d: Mapping[str, Any], source: str = "<dict>", base_dir: str = ".") -> "Scenario":
-        """A scenario from a dict of the TOML file's tables and keys (as `to_dict()` returns them)."""
+        """A scenario from a dict of the TOML file's tables and keys (as `to_dict()` returns them),
+        validated as `from_toml`. A dict or list that contains itself, or nesting deeper than 64 levels,
+        raises `ScenarioError`."""
     @staticmethod
     def builtins() -> list[str]:
         """The names of the built-in scenarios (`satflock scenarios` lists them with descriptions)."""
@@ -148,13 +151,16 @@ class RunResult:
     """The summary's status: `"completed"` (a run that fails raises `SimulationError`)."""
     out: Optional[pathlib.Path]
     """The run directory written (as `satflock run --out`), or None when `out` was not given."""
-    metrics: Union[pyarrow.Table, dict[str, npt.NDArray[Any]]]
+    metrics: dict[str, npt.NDArray[Any]]
     """The metrics table (the CLI's `metrics.csv`: one row per record, units in the column names, e.g.
-    `t_s` [s], `time_utc`, `d_max_m`, `min_separation_m`, `delta_v_mean_mps`): a `pyarrow.Table`, or a dict
-    of numpy arrays of shape (R,) when pyarrow is not installed. NaN where a value does not exist."""
+    `t_s` [s], `time_utc`, `d_max_m`, `min_separation_m`, `delta_v_mean_mps`): always a dict of numpy
+    arrays of shape (R,) by column, whatever is installed. NaN where a value does not exist."""
     trajectory: Optional[Trajectory]
     """Every recorded state as numpy arrays; None when the scenario writes no trajectory
     (`[output] trajectory = false`)."""
+    def metrics_table(self) -> pyarrow.Table:
+        """`metrics` as a `pyarrow.Table` (its `to_pandas()` needs pandas); `ImportError` without
+        pyarrow."""
 
 def run(
     scenario: Union[Scenario, str, os.PathLike[str]],
@@ -169,9 +175,10 @@ def run(
         scenario: a `Scenario`, a built-in name or a path to a scenario file.
         out: a run directory (new, empty or a previous run's) that gets the CLI's files (`summary.json`,
             metrics and trajectory tables, `scene.json`, `scenario.toml`); None: nothing is kept on disk.
-        threads: worker threads (>= 1); None: one per core. The results do not depend on it.
+        threads: worker threads, an int from 1 to 1024; None: one per core. The results do not depend on
+            it.
         progress: True shows the percentage done on stderr (when it is a terminal); False nothing; or a
-            callable receiving the simulated time [s] at each whole percent of the run.
+            callable receiving the simulated time [s] at each whole percent of the run. Nothing else.
         law: a guidance law written in Python run instead of the scenario's law (see `PythonLaw`);
             sampled control only.
 
@@ -180,8 +187,10 @@ def run(
         SimulationError: the run failed (divergence, a Python law that raised or returned a bad array),
             with the message `satflock run` prints; with `out`, the files so far stay, marked `failed`.
         KeyboardInterrupt: Ctrl-C (the GIL is released while Rust runs): the run stops cleanly first
-            (with `out`, its files are valid up to that time and `summary.json` says `interrupted`).
-        ValueError: `out` holds files that are not a previous run's, or `threads` < 1.
+            (with `out`, its files are valid up to that time and `summary.json` says `interrupted`); a
+            `KeyboardInterrupt` raised by a Python law's `command` is raised as it is.
+        ValueError: `out` holds files that are not a previous run's, or `threads` is out of 1 to 1024.
+        TypeError: `threads` is not an int or None, or `progress` not a bool or a callable.
     """
 
 class Simulation:
@@ -241,8 +250,10 @@ class Simulation:
     def trajectory(self) -> Optional[Trajectory]:
         """The records so far (as `RunResult.trajectory`)."""
     @property
-    def metrics(self) -> Union[pyarrow.Table, dict[str, npt.NDArray[Any]]]:
-        """The metrics rows recorded so far (as `RunResult.metrics`)."""
+    def metrics(self) -> dict[str, npt.NDArray[Any]]:
+        """The metrics rows recorded so far (as `RunResult.metrics`: a dict of numpy arrays)."""
+    def metrics_table(self) -> pyarrow.Table:
+        """The metrics rows recorded so far as a `pyarrow.Table` (`ImportError` without pyarrow)."""
 
 # ------------------------------------------------------------------------------------------ Python law
 
@@ -468,7 +479,7 @@ def campaign(
         resume: continue a campaign in `out` from its manifest.
         keep_runs: keep each run's full outputs under `out`.
         cpus_per_run: CPUs each Ray task requests, and the threads it runs on.
-        progress: show a progress bar on stderr.
+        progress: a bool: show a progress line on stderr, only when stderr is a terminal.
 
     Returns:
         The campaign table (`campaign.parquet`): one row per run, in run order, the same for both backends.

@@ -26,7 +26,8 @@ def _pyarrow_parquet():
         import pyarrow.parquet as pq
     except ImportError as e:
         raise ImportError(
-            'satflock.campaign returns a pyarrow.Table: pip install "satflock[arrow]" (or pyarrow)'
+            "satflock.campaign returns a pyarrow.Table: pip install pyarrow (from the source tree: "
+            'pip install "./python[arrow]")'
         ) from e
     return pq
 
@@ -36,7 +37,8 @@ def _ray():
         import ray
     except ImportError as e:
         raise ImportError(
-            'backend="ray" needs Ray: pip install "satflock[ray]"'
+            'backend="ray" needs Ray: pip install "ray[default]" (from the source tree: pip install '
+            '"./python[ray]")'
         ) from e
     return ray
 
@@ -138,7 +140,8 @@ def campaign(
         cpus_per_run: CPUs (Ray's ``num_cpus``) and rayon threads of each Ray task, >= 1. The local
             backend runs each run on one thread (only 1 is accepted there). A run's result does not
             depend on its thread count.
-        progress: a progress line on stderr (runs done, not completed, in progress).
+        progress: a bool: a progress line on stderr (runs done, not completed, in progress), rewritten
+            in place, only when stderr is a terminal.
 
     Returns a ``pyarrow.Table`` (see docs/campaigns.md, ``campaign.parquet``): ``status``, ``error``,
     ``seed`` (text), ``run``, ``point``, ``parameter.KEY`` for each varied key, then every scalar
@@ -157,13 +160,15 @@ def campaign(
 
     Raises ``CampaignError`` for a bad campaign, an output folder that cannot hold it or a manifest
     that cannot be resumed; ``ValueError`` for a bad argument; ``ImportError`` without pyarrow (or
-    without Ray for ``backend="ray"``: ``pip install "satflock[ray]"``). A run that fails is not an
+    without Ray for ``backend="ray"``: ``pip install "ray[default]"``). A run that fails is not an
     error: its row says ``status`` and ``error``. Ctrl-C stops the campaign (running runs are
     recorded as interrupted locally, cancelled on Ray), writes the table and summary of what
     finished, and raises ``KeyboardInterrupt``; ``resume=True`` runs the rest.
     """
     if backend not in _BACKENDS:
         raise ValueError(f"backend = {backend!r} (allowed: 'local' or 'ray')")
+    if not isinstance(progress, bool):
+        raise TypeError(f"progress = {progress!r} is a {type(progress).__name__} (allowed: True or False)")
     _check_count("jobs", jobs, allow_none=True)
     _check_count("cpus_per_run", cpus_per_run, allow_none=False)
     if backend == "local" and cpus_per_run != 1:
@@ -179,7 +184,7 @@ def campaign(
         ray = _ray()
     temporary = tempfile.mkdtemp(prefix="satflock-campaign-") if out is None else None
     folder = temporary if temporary is not None else os.fspath(out)
-    bar = _Progress(progress, plan.run_count)
+    bar = _Progress(progress and sys.stderr is not None and sys.stderr.isatty(), plan.run_count)
     try:
         try:
             if backend == "local":

@@ -68,14 +68,23 @@ class Trajectory:
         return f"Trajectory(records={records}, satellites={satellites})"
 
 
-def _metrics(columns: dict) -> Any:
-    """The metrics columns as a ``pyarrow.Table`` where pyarrow imports, else a dict of numpy arrays."""
+def _metrics(columns: dict) -> dict:
+    """The metrics columns as a dict of numpy arrays (the same with or without pyarrow)."""
+    columns = dict(columns)
+    columns["time_utc"] = np.array(columns["time_utc"], dtype=str)
+    return columns
+
+
+def _metrics_table(columns: dict) -> Any:
+    """The metrics columns (``_metrics``) as a ``pyarrow.Table``."""
     try:
         import pyarrow
-    except ImportError:
-        columns = dict(columns)
-        columns["time_utc"] = np.array(columns["time_utc"], dtype=str)
-        return columns
+    except ImportError as e:
+        raise ImportError(
+            "metrics_table() returns a pyarrow.Table and needs pyarrow: pip install pyarrow (from the "
+            'source tree: pip install "./python[arrow]"); the metrics attribute is a dict of numpy '
+            "arrays without it"
+        ) from e
     return pyarrow.table(columns)
 
 
@@ -87,10 +96,11 @@ class RunResult:
         status: str, the summary's status (``completed``).
         out: ``pathlib.Path`` of the output folder, or None when the run went to a temporary folder
             (removed afterwards).
-        metrics: the metrics table, one row per recording time: a ``pyarrow.Table`` when pyarrow
-            imports (``to_pandas()`` where pandas is installed), else a dict of numpy arrays by column.
-            Columns as in ``metrics.csv``: ``t_s`` [s], ``time_utc`` (ISO 8601 UTC strings), then the
-            numeric columns (counts as int64, NaN where a value does not exist).
+        metrics: the metrics table, one row per recording time, always a dict of numpy arrays (R,) by
+            column, whatever is installed: ``t_s`` [s], ``time_utc`` (ISO 8601 UTC strings), then the
+            columns of ``metrics.csv`` (counts as int64, NaN where a value does not exist).
+            ``metrics_table()`` gives it as a ``pyarrow.Table`` (needs pyarrow; its ``to_pandas()``
+            needs pandas too).
         trajectory: a ``Trajectory``, or None when the scenario writes none
             (``[output] trajectory = false``).
     """
@@ -105,6 +115,11 @@ class RunResult:
         self.trajectory: Optional[Trajectory] = (
             None if raw["trajectory"] is None else Trajectory(raw["trajectory"])
         )
+
+    def metrics_table(self) -> Any:
+        """The metrics as a ``pyarrow.Table`` (same columns and values as ``metrics``); raises
+        ``ImportError`` without pyarrow."""
+        return _metrics_table(self.metrics)
 
     def __repr__(self) -> str:
         return (
@@ -159,8 +174,15 @@ def run(
             far stay there, with summary.json saying ``failed``.
         KeyboardInterrupt: Ctrl-C: the run stops cleanly (with ``out`` given, its files are valid up to
             that time and summary.json says ``interrupted``).
-        ValueError: ``out`` holds files that are not a previous run's, or ``threads`` < 1.
+        ValueError: ``out`` holds files that are not a previous run's, or ``threads`` is an int out of
+            1 to 1024.
+        TypeError: ``threads`` is not an int or None, or ``progress`` not a bool or a callable.
     """
+    if not (isinstance(progress, bool) or callable(progress)):
+        raise TypeError(
+            f"progress = {progress!r} is a {type(progress).__name__} (allowed: True, False, or a "
+            "callable taking the simulated time [s])"
+        )
     if not isinstance(scenario, Scenario):
         scenario = Scenario.load(os.fspath(scenario))
     printer = None
@@ -209,6 +231,10 @@ class Simulation(_native.Simulation):
         return None if arrays is None else Trajectory(arrays)
 
     @property
-    def metrics(self) -> Any:
-        """The metrics rows so far, as ``RunResult.metrics`` (a ``pyarrow.Table`` or a dict)."""
+    def metrics(self) -> dict:
+        """The metrics rows so far, as ``RunResult.metrics`` (a dict of numpy arrays by column)."""
         return _metrics(self._metrics_columns())
+
+    def metrics_table(self) -> Any:
+        """The metrics rows so far as a ``pyarrow.Table`` (needs pyarrow)."""
+        return _metrics_table(self.metrics)

@@ -22,7 +22,7 @@ use satflock::metrics::{five_elements, FiveElementsWorkspace, MetricsError};
 use satflock::orbit::{CartesianState, EarthModel, GravityModel, Vector3};
 use satflock::propagate::{self as library, OutputFrame, PropagateError, PropagationSettings};
 
-use crate::detached::run_detached;
+use crate::detached::{run_detached, threads_argument};
 
 /// An array argument as float64: its shape and its values in C order.
 fn float_array(arg: &Bound<'_, PyAny>, name: &str) -> PyResult<(Vec<usize>, Vec<f64>)> {
@@ -260,7 +260,7 @@ pub fn propagate<'py>(
     gravity: &str,
     frame: &str,
     reference: Option<&Bound<'py, PyAny>>,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
     integrator: &str,
     rtol: f64,
     atol: f64,
@@ -403,7 +403,7 @@ pub fn propagate<'py>(
     // Each row alone (with the reference): its times and its states in the output frame.
     type Track = (Vec<f64>, Vec<[f64; 6]>);
     let tracks: Vec<Option<Result<Track, PropagateError>>> =
-        run_detached(py, threads, &cancel, || {
+        run_detached(py, threads_argument(threads)?, &cancel, || {
             orbits
                 .par_iter()
                 .map(|orbit| {

@@ -3,7 +3,7 @@
 //! TOML → Python: strings, integers, floats, booleans, arrays (lists) and tables (dicts); a date-time
 //! becomes its RFC 3339 text. Python → TOML: `bool`, `int` (64-bit), `float`, `str`, `list`/`tuple`,
 //! `dict` with string keys, and numpy scalars (through their `item()`); `None` has no TOML form and is
-//! refused.
+//! refused, and so are a dict or list that contains itself and nesting deeper than [`MAX_DEPTH`].
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
@@ -36,8 +36,55 @@ pub fn table_to_py<'py>(py: Python<'py>, table: &toml::Table) -> PyResult<Bound<
     Ok(dict)
 }
 
-/// A Python object as a TOML value; the error says what was found where (`at`: the dotted key).
+/// Deepest nesting of dicts and lists a scenario or campaign given as a dict may have (a scenario file
+/// nests a few levels; a deeper structure is a mistake, and would exhaust the stack).
+pub const MAX_DEPTH: usize = 64;
+
+/// A Python object as a TOML value; the error says what was found where (`at`: the dotted key). Nesting
+/// beyond [`MAX_DEPTH`] and a dict or list that contains itself are refused.
 pub fn py_to_toml(obj: &Bound<'_, PyAny>, at: &str) -> Result<toml::Value, String> {
+    convert(obj, at, &mut Vec::new())
+}
+
+/// [`py_to_toml`] with the containers on the path to `obj` (their addresses), outermost first.
+fn convert(obj: &Bound<'_, PyAny>, at: &str, path: &mut Vec<usize>) -> Result<toml::Value, String> {
+    let is_container = obj.is_instance_of::<PyDict>()
+        || obj.is_instance_of::<PyList>()
+        || obj.is_instance_of::<PyTuple>();
+    if !is_container {
+        return leaf(obj, at, path);
+    }
+    let address = obj.as_ptr() as usize;
+    let shown = if at.is_empty() { "the top level" } else { at };
+    if path.contains(&address) {
+        return Err(format!(
+            "`{shown}` contains itself (a dict or list that holds itself has no TOML form)"
+        ));
+    }
+    if path.len() >= MAX_DEPTH {
+        return Err(format!(
+            "`{shown}` is nested deeper than {MAX_DEPTH} levels of dicts and lists (allowed: at most \
+             {MAX_DEPTH})"
+        ));
+    }
+    path.push(address);
+    let value = if let Ok(dict) = obj.cast::<PyDict>() {
+        table(dict, at, path).map(toml::Value::Table)
+    } else {
+        let mut items = Vec::new();
+        let iter = obj.try_iter().map_err(|e| e.to_string())?;
+        for (k, item) in iter.enumerate() {
+            let item = item.map_err(|e| e.to_string())?;
+            items.push(convert(&item, &format!("{at}.{k}"), path)?);
+        }
+        Ok(toml::Value::Array(items))
+    };
+    path.pop();
+    value
+}
+
+/// A Python object that is not a dict, list or tuple as a TOML value.
+fn leaf(obj: &Bound<'_, PyAny>, at: &str, path: &mut Vec<usize>) -> Result<toml::Value, String> {
     if obj.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(
             obj.extract::<bool>().map_err(|e| e.to_string())?,
@@ -59,17 +106,6 @@ pub fn py_to_toml(obj: &Bound<'_, PyAny>, at: &str) -> Result<toml::Value, Strin
             obj.extract::<String>().map_err(|e| e.to_string())?,
         ));
     }
-    if let Ok(dict) = obj.cast::<PyDict>() {
-        return dict_to_table(dict, at).map(toml::Value::Table);
-    }
-    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
-        let mut items = Vec::new();
-        for (k, item) in obj.try_iter().map_err(|e| e.to_string())?.enumerate() {
-            let item = item.map_err(|e| e.to_string())?;
-            items.push(py_to_toml(&item, &format!("{at}.{k}"))?);
-        }
-        return Ok(toml::Value::Array(items));
-    }
     if obj.is_none() {
         return Err(format!(
             "`{at}` is None, which a scenario cannot hold (leave the key out for its default)"
@@ -79,7 +115,7 @@ pub fn py_to_toml(obj: &Bound<'_, PyAny>, at: &str) -> Result<toml::Value, Strin
     if obj.hasattr("item").unwrap_or(false) && obj.hasattr("dtype").unwrap_or(false) {
         if let Ok(item) = obj.call_method0("item") {
             if !item.hasattr("dtype").unwrap_or(false) {
-                return py_to_toml(&item, at);
+                return convert(&item, at, path);
             }
         }
     }
@@ -94,8 +130,20 @@ pub fn py_to_toml(obj: &Bound<'_, PyAny>, at: &str) -> Result<toml::Value, Strin
     ))
 }
 
-/// A Python dict with string keys as a TOML table.
+/// A Python dict with string keys as a TOML table (nesting and cycles refused as by [`py_to_toml`]).
 pub fn dict_to_table(dict: &Bound<'_, PyDict>, at: &str) -> Result<toml::Table, String> {
+    match convert(dict.as_any(), at, &mut Vec::new())? {
+        toml::Value::Table(t) => Ok(t),
+        other => Err(format!("`{at}` is a {}, not a table", other.type_str())),
+    }
+}
+
+/// The entries of `dict` (on `path`, see [`convert`]) as a TOML table.
+fn table(
+    dict: &Bound<'_, PyDict>,
+    at: &str,
+    stack: &mut Vec<usize>,
+) -> Result<toml::Table, String> {
     let mut table = toml::Table::new();
     for (key, value) in dict.iter() {
         let key: String = key
@@ -106,7 +154,7 @@ pub fn dict_to_table(dict: &Bound<'_, PyDict>, at: &str) -> Result<toml::Table, 
         } else {
             format!("{at}.{key}")
         };
-        table.insert(key, py_to_toml(&value, &path)?);
+        table.insert(key, convert(&value, &path, stack)?);
     }
     Ok(table)
 }

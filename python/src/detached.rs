@@ -8,8 +8,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyInt};
 
 /// How often the waiting thread lets Python handle signals.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
@@ -23,6 +24,34 @@ pub fn run_detached<T: Send>(
     work: impl FnOnce() -> T + Send,
 ) -> PyResult<T> {
     run_in_pool(py, thread_pool(threads)?.as_ref(), cancel, work)
+}
+
+/// Most rayon threads a `threads` argument accepts (as `satflock run --threads`).
+pub const MAX_THREADS: usize = 1024;
+
+/// A `threads` argument: None, or an int from 1 to [`MAX_THREADS`]. A bool, a float, a str … is a
+/// `TypeError` and an int out of range a `ValueError`, both naming `threads` and the allowed range.
+pub fn threads_argument(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let allowed = format!("allowed: an int from 1 to {MAX_THREADS}, or None for one per core");
+    let Some(value) = threads.filter(|t| !t.is_none()) else {
+        return Ok(None);
+    };
+    if value.is_instance_of::<PyBool>() || !value.is_instance_of::<PyInt>() {
+        return Err(PyTypeError::new_err(format!(
+            "threads = {} is a {} ({allowed})",
+            value.repr().map_or_else(|_| "?".into(), |r| r.to_string()),
+            value
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".into(), |n| n.to_string())
+        )));
+    }
+    match value.extract::<i64>() {
+        Ok(k) if (1..=MAX_THREADS as i64).contains(&k) => Ok(Some(k as usize)),
+        _ => Err(PyValueError::new_err(format!(
+            "threads = {value} ({allowed})"
+        ))),
+    }
 }
 
 /// A rayon pool of `threads` threads (`None`: none, the global pool is used); for callers that run many

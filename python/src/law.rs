@@ -9,9 +9,11 @@
 //! row, which the actuators then limit like any law's. Sampled control only: in continuous mode a law is
 //! evaluated at every Runge–Kutta stage, where no centralised step runs.
 
+use std::sync::{Arc, Mutex};
+
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyKeyboardInterrupt, PySystemExit, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyString;
@@ -139,6 +141,16 @@ impl PyLawContext {
 pub struct PythonLawObject {
     object: Py<PyAny>,
     name: String,
+    raised: Raised,
+}
+
+/// Where a Python law leaves a `KeyboardInterrupt` (or `SystemExit`) that `command(ctx)` raised: the run
+/// stops as failed, and the caller raises this exception itself instead of `SimulationError`.
+pub type Raised = Arc<Mutex<Option<PyErr>>>;
+
+/// The exception a Python law left in `raised`, if any (taken out).
+pub fn take_raised(raised: &Raised) -> Option<PyErr> {
+    raised.lock().unwrap_or_else(|e| e.into_inner()).take()
 }
 
 impl PythonLawObject {
@@ -169,7 +181,13 @@ impl PythonLawObject {
         Ok(Self {
             object: law.clone().unbind(),
             name,
+            raised: Raised::default(),
         })
+    }
+
+    /// The slot where the law leaves a `KeyboardInterrupt` or `SystemExit` it raised ([`take_raised`]).
+    pub fn raised(&self) -> Raised {
+        self.raised.clone()
     }
 }
 
@@ -193,7 +211,16 @@ impl PythonLaw {
             .object
             .bind(py)
             .call_method1("command", (ctx,))
-            .map_err(|e| format!("command(ctx) raised an exception:\n{}", describe(py, &e)))?;
+            .map_err(|e| {
+                let message = format!("command(ctx) raised an exception:\n{}", describe(py, &e));
+                // Ctrl-C and sys.exit() are the caller's, not the law's failure: raised as they are.
+                if e.is_instance_of::<PyKeyboardInterrupt>(py)
+                    || e.is_instance_of::<PySystemExit>(py)
+                {
+                    *self.law.raised.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
+                }
+                message
+            })?;
         let n = swarm.len();
         let expected = format!(
             "expected an array of shape ({n}, 3): one commanded acceleration per satellite, Hill frame, \

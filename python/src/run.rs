@@ -17,8 +17,9 @@ use satflock::run::{run_prepared, RunError, RunOptions};
 use satflock::scenario::Scenario;
 
 use crate::detached::run_detached;
+use crate::detached::threads_argument;
 use crate::errors::{scenario_error, SimulationError};
-use crate::law::{prepare, type_name, PythonLawObject};
+use crate::law::{prepare, take_raised, type_name, PythonLawObject};
 use crate::records::{metrics_columns, trajectory_arrays};
 use crate::scenario::PyScenario;
 
@@ -67,11 +68,13 @@ pub fn run<'py>(
     py: Python<'py>,
     scenario: &Bound<'py, PyAny>,
     out: PathBuf,
-    threads: Option<usize>,
+    threads: Option<&Bound<'py, PyAny>>,
     progress: Option<Py<PyAny>>,
     law: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let threads = threads_argument(threads)?;
     let law = law.map(PythonLawObject::new).transpose()?;
+    let raised = law.as_ref().map(PythonLawObject::raised);
     let scenario = scenario_argument(scenario)?;
     let prepared = prepare(&scenario, law)?;
     let duration_s = prepared.config.duration_s;
@@ -99,7 +102,7 @@ pub fn run<'py>(
     let outcome = run_detached(py, threads, &cancel, || {
         run_prepared(&scenario, prepared, &out, &options, &mut report)
     })?;
-    if let Some(e) = callback_error {
+    if let Some(e) = callback_error.or_else(|| raised.as_ref().and_then(take_raised)) {
         return Err(e);
     }
     outcome.map_err(|e| run_error(&e))?;

@@ -29,7 +29,8 @@ impl PyScenario {
         Scenario::from_table(self.table.clone(), &self.source, &self.base_dir)
     }
 
-    /// Parses TOML text, checking it the way `satflock run` does (line-precise messages).
+    /// Parses TOML text and validates it fully, the way `satflock run` does before it starts
+    /// (line-precise messages; ranges such as a NaN `duration_s` refused here, not at the run).
     fn parse(text: &str, source: &str, base_dir: &Path) -> PyResult<Self> {
         Scenario::from_toml(text, source, base_dir).map_err(|e| scenario_error(&e))?;
         let table: toml::Table = toml::from_str(text).map_err(|e| {
@@ -38,11 +39,13 @@ impl PyScenario {
                 message: e.to_string(),
             })
         })?;
-        Ok(Self {
+        let scenario = Self {
             table,
             source: source.into(),
             base_dir: base_dir.to_path_buf(),
-        })
+        };
+        scenario.check().map_err(|e| scenario_error(&e))?;
+        Ok(scenario)
     }
 
     /// The full validation (ranges and consistency, initial states), as before a run.

@@ -16,9 +16,10 @@ use satflock::run::build_prepared;
 use satflock::swarm::Simulation;
 use satflock::time::Epoch;
 
+use crate::detached::threads_argument;
 use crate::detached::{run_in_pool, thread_pool};
 use crate::errors::SimulationError;
-use crate::law::{prepare, PythonLawObject};
+use crate::law::{prepare, take_raised, PythonLawObject, Raised};
 use crate::records::{metrics_columns, readonly, trajectory_arrays, MemoryRecorder};
 use crate::run::{run_error, scenario_argument};
 
@@ -35,6 +36,8 @@ pub struct PySimulation {
     epoch: Epoch,
     pool: Option<rayon::ThreadPool>,
     cancel: Arc<AtomicBool>,
+    /// Where a Python law leaves a `KeyboardInterrupt` it raised (raised as is by `advance`).
+    raised: Option<Raised>,
 }
 
 impl PySimulation {
@@ -53,6 +56,9 @@ impl PySimulation {
         let outcome = run_in_pool(py, pool.as_ref(), cancel, || {
             simulation.advance_to(t_s, recorder)
         })?;
+        if let Some(e) = self.raised.as_ref().and_then(take_raised) {
+            return Err(e);
+        }
         outcome.map_err(|e| SimulationError::new_err(e.to_string()))
     }
 
@@ -89,10 +95,11 @@ impl PySimulation {
     fn new(
         scenario: &Bound<'_, PyAny>,
         law: Option<&Bound<'_, PyAny>>,
-        threads: Option<usize>,
+        threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let pool = thread_pool(threads)?;
+        let pool = thread_pool(threads_argument(threads)?)?;
         let law = law.map(PythonLawObject::new).transpose()?;
+        let raised = law.as_ref().map(PythonLawObject::raised);
         let scenario = scenario_argument(scenario)?;
         let prepared = prepare(&scenario, law)?;
         let (epoch, with_trajectory) = (prepared.epoch, prepared.write_trajectory);
@@ -108,6 +115,7 @@ impl PySimulation {
             epoch,
             pool,
             cancel: Arc::new(AtomicBool::new(false)),
+            raised,
         })
     }
 

@@ -138,10 +138,22 @@ def test_bad_arguments(tmp_path):
     assert "cannot read the file" in str(info.value)
 
 
-def test_missing_ray_says_how_to_install(monkeypatch):
+def test_missing_ray_or_pyarrow_says_how_to_install_what_exists(monkeypatch):
+    # satflock is not on PyPI: the hints name packages that are, and the source tree's extras.
     monkeypatch.setitem(sys.modules, "ray", None)
-    with pytest.raises(ImportError, match=r'pip install "satflock\[ray\]"'):
+    with pytest.raises(ImportError, match=r'pip install "ray\[default\]" .*pip install "./python\[ray\]"'):
         satflock.campaign(SPEC, backend="ray", progress=False)
+    monkeypatch.setitem(sys.modules, "pyarrow.parquet", None)
+    with pytest.raises(ImportError, match=r'pip install pyarrow .*pip install "./python\[arrow\]"'):
+        satflock.campaign(SPEC, progress=False)
+
+
+def test_progress_is_a_bool_and_written_only_to_a_terminal(capfd):
+    with pytest.raises(TypeError, match=r"progress = 'yes' is a str \(allowed: True or False\)"):
+        satflock.campaign(SPEC, progress="yes")
+    # pytest's captured stderr is not a terminal: no progress line, no carriage return.
+    satflock.campaign(SPEC, progress=True)
+    assert "\r" not in capfd.readouterr().err
 
 
 @pytest.fixture(scope="module")
@@ -177,3 +189,19 @@ def test_ray_resumes_a_local_campaign(ray_session, local_table, tmp_path):
     assert_same_table(table, local_table)
     lines = (out / "manifest.jsonl").read_text().splitlines()
     assert [json.loads(line)["run"] for line in lines[1:]][-1] == 2
+
+
+def test_resume_says_which_manifest_lines_it_dropped(tmp_path, capfd, local_table):
+    out = tmp_path / "c"
+    satflock.campaign(SPEC, out=out, progress=False)
+    manifest = out / "manifest.jsonl"
+    lines = manifest.read_text().splitlines()
+    forged = json.loads(lines[1])
+    forged["seed"] = 999
+    manifest.write_text("\n".join(lines + [json.dumps(forged), "garbage"]) + "\n")
+    capfd.readouterr()
+    table = satflock.campaign(SPEC, out=out, resume=True, progress=False)
+    err = capfd.readouterr().err
+    assert f"warning: resume dropped manifest.jsonl line {len(lines) + 1}: run {forged['run']}: seed 999" in err
+    assert f"warning: resume dropped manifest.jsonl line {len(lines) + 2}: not a run record" in err
+    assert_same_table(table, local_table)

@@ -205,3 +205,17 @@ def test_laws_the_scenario_cannot_take_are_refused(short_hold):
     with pytest.raises(satflock.ScenarioError, match="set-law-parameters") as e:
         satflock.Simulation("hold", law=PDHold(1e-4, 2e-2))
     assert e.value.key == "events[0]"
+
+
+def test_a_keyboard_interrupt_in_a_law_is_raised_as_keyboard_interrupt(short_hold, tmp_path):
+    class Interrupts:
+        def command(self, ctx):
+            if ctx.time_s >= 5.0:
+                raise KeyboardInterrupt
+            return np.zeros((ctx.n_satellites, 3))
+
+    with pytest.raises(KeyboardInterrupt):
+        satflock.run(short_hold, out=tmp_path / "run", law=Interrupts(), progress=False)
+    sim = satflock.Simulation(short_hold, law=Interrupts())
+    with pytest.raises(KeyboardInterrupt):
+        sim.advance_to(10.0)

@@ -24,10 +24,11 @@ def test_result_is_the_run_directory_read_back(short_hold, tmp_path):
     # The metrics table is metrics.csv, column for column (read by pyarrow's own CSV reader).
     text = pyarrow.csv.ConvertOptions(column_types={"time_utc": pyarrow.string()})
     csv = pyarrow.csv.read_csv(out / "metrics.csv", convert_options=text)
-    assert result.metrics.column_names == csv.column_names
-    assert result.metrics["time_utc"].to_pylist() == csv["time_utc"].to_pylist()
+    table = result.metrics_table()
+    assert table.column_names == csv.column_names
+    assert table["time_utc"].to_pylist() == csv["time_utc"].to_pylist()
     for name in csv.column_names[2:] + ["t_s"]:
-        ours, theirs = result.metrics[name].to_numpy(), csv[name].to_numpy(zero_copy_only=False)
+        ours, theirs = table[name].to_numpy(), csv[name].to_numpy(zero_copy_only=False)
         assert np.array_equal(ours, theirs.astype(ours.dtype), equal_nan=True), name
     # The trajectory rows of trajectory.csv, one per live satellite and record, on the (R, N) grid.
     rows = pyarrow.csv.read_csv(out / "trajectory.csv")
@@ -56,7 +57,7 @@ def test_out_none_uses_a_temporary_folder_and_a_name_or_path_loads(tmp_path):
     without_trajectory = satflock.Scenario.load("free-drift")
     without_trajectory.update({"output.trajectory": False})
     result = satflock.run(without_trajectory, progress=False)
-    assert result.trajectory is None and result.metrics.num_rows > 1
+    assert result.trajectory is None and len(result.metrics["t_s"]) > 1
 
 
 def test_threads_1_and_2_give_bitwise_identical_trajectories(short_hold):
@@ -80,7 +81,7 @@ def test_removed_satellites_are_nan_rows(short_hold):
     assert np.isnan(traj.delta_v_mps[gone, 2]).all()
     assert np.isfinite(traj.hill[~gone]).all()
     assert np.isfinite(np.delete(traj.hill, 2, axis=1)).all()
-    assert list(result.metrics["n"].to_numpy()) == [20 if s < 100.0 else 19 for s in t]
+    assert list(result.metrics["n"]) == [20 if s < 100.0 else 19 for s in t]
 
 
 def test_progress_callback_and_its_exception(short_hold):
@@ -164,12 +165,36 @@ def test_ctrl_c_stops_the_run_cleanly(tmp_path):
     assert metrics["t_s"].to_numpy()[-1] <= summary["simulated_s"]
 
 
-def test_metrics_without_pyarrow_are_a_dict_of_numpy_arrays(short_hold, monkeypatch):
-    with_pyarrow = satflock.run(short_hold, progress=False).metrics
+def test_metrics_are_a_dict_of_numpy_arrays_with_or_without_pyarrow(short_hold, monkeypatch):
+    result = satflock.run(short_hold, progress=False)
+    assert isinstance(result.metrics, dict)
+    with_pyarrow = result.metrics_table()
     monkeypatch.setitem(sys.modules, "pyarrow", None)  # `import pyarrow` now fails
-    metrics = satflock.run(short_hold, progress=False).metrics
+    result = satflock.run(short_hold, progress=False)
+    metrics = result.metrics
+    with pytest.raises(ImportError, match="pip install pyarrow"):
+        result.metrics_table()
     assert isinstance(metrics, dict) and list(metrics) == with_pyarrow.column_names
     assert metrics["n"].dtype == np.int64 and metrics["d_max_m"].dtype == np.float64
     assert metrics["time_utc"].tolist() == with_pyarrow["time_utc"].to_pylist()
     for name in with_pyarrow.column_names[2:]:
         assert np.array_equal(metrics[name], with_pyarrow[name].to_numpy(), equal_nan=True), name
+
+
+@pytest.mark.parametrize(
+    "threads, error",
+    [(-1, ValueError), (0, ValueError), (100_000, ValueError), (2**70, ValueError),
+     (2.5, TypeError), ("2", TypeError), (True, TypeError)],
+)
+def test_a_bad_threads_names_threads_and_the_range(short_hold, threads, error):
+    for call in (
+        lambda: satflock.run(short_hold, threads=threads, progress=False),
+        lambda: satflock.Simulation(short_hold, threads=threads),
+    ):
+        with pytest.raises(error, match=r"threads = .*allowed: an int from 1 to 1024, or None"):
+            call()
+
+
+def test_progress_is_a_bool_or_a_callable(short_hold):
+    with pytest.raises(TypeError, match=r"progress = 'yes' is a str \(allowed: True, False"):
+        satflock.run(short_hold, progress="yes")

@@ -59,3 +59,38 @@ def test_an_unknown_name_lists_the_builtins():
     with pytest.raises(satflock.ScenarioError) as e:
         satflock.Scenario.load("no-such-scenario")
     assert "gao-circle" in str(e.value)
+
+
+def test_a_dict_that_contains_itself_or_nests_too_deep_is_refused():
+    d = satflock.Scenario.load("hold").to_dict()
+    d["law"]["loop"] = d
+    with pytest.raises(satflock.ScenarioError, match=r"`law.loop` contains itself"):
+        satflock.Scenario.from_dict(d)
+    listed = []
+    listed.append(listed)
+    with pytest.raises(satflock.ScenarioError, match=r"`events.0.0` contains itself"):
+        satflock.Scenario.from_dict({"events": [listed]})
+    deep = {}
+    node = deep
+    for _ in range(20_000):
+        node["x"] = {}
+        node = node["x"]
+    with pytest.raises(satflock.ScenarioError, match=r"nested deeper than 64 levels"):
+        satflock.Scenario.from_dict(deep)
+    # Within the bound, nesting is just a (here unknown) key.
+    with pytest.raises(satflock.ScenarioError, match="unknown field"):
+        satflock.Scenario.from_dict({"a": {"b": {"c": 1}}})
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -1.0])
+def test_a_bad_value_is_refused_at_construction(value):
+    d = satflock.Scenario.load("hold").to_dict()
+    d["duration_s"] = value
+    with pytest.raises(satflock.ScenarioError) as e:
+        satflock.Scenario.from_dict(d)
+    assert e.value.key == "duration_s" and "allowed" in str(e.value)
+    text = satflock.Scenario.load("hold").to_toml()
+    assert "duration_s = 4000.0" in text
+    with pytest.raises(satflock.ScenarioError) as e:
+        satflock.Scenario.from_toml(text.replace("duration_s = 4000.0", f"duration_s = {value!r}"))
+    assert e.value.key == "duration_s"

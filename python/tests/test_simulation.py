@@ -69,7 +69,7 @@ def test_stepped_from_python_equals_the_cli_bit_for_bit(hold_with_events, satflo
     metrics = pyarrow.csv.read_csv(
         out / "metrics.csv", convert_options=pyarrow.csv.ConvertOptions(column_types={"time_utc": pyarrow.string()})
     )
-    ours = sim.metrics
+    ours = sim.metrics_table()
     assert ours.column_names == metrics.column_names
     assert ours["time_utc"].to_pylist() == metrics["time_utc"].to_pylist()
     for name in metrics.column_names[2:] + ["t_s"]:
@@ -80,7 +80,7 @@ def test_stepped_from_python_equals_the_cli_bit_for_bit(hold_with_events, satflo
     result = satflock.run(hold_with_events, threads=1, progress=False)
     assert np.array_equal(result.trajectory.hill, traj.hill)
     assert np.array_equal(result.trajectory.delta_v_mps, traj.delta_v_mps)
-    assert result.metrics.equals(ours)
+    assert result.metrics_table().equals(ours)
 
 
 def test_step_and_run_mix_with_advance_to(short_hold):
@@ -97,7 +97,7 @@ def test_step_and_run_mix_with_advance_to(short_hold):
     assert sim.time_s == 300.0
     whole = satflock.run(short_hold, progress=False)
     assert np.array_equal(sim.trajectory.hill, whole.trajectory.hill)
-    assert sim.metrics.equals(whole.metrics)
+    assert sim.metrics_table().equals(whole.metrics_table())
 
 
 def test_state_arrays_are_read_only_copies_of_the_records(short_hold):
