@@ -17,6 +17,7 @@
 //! | physics | [`relative`] | Hill-Clohessy-Wiltshire, J2-linearised (Schweighart-Sedwick) and averaged-J2 relative motion |
 //! | support | [`random`] | every random draw of a run: one stream per (seed, purpose, satellite, tick) |
 //! | support | [`grid`] | the cell-list neighbour grid (radius and nearest queries) |
+//! | support | [`input_file`] | the one bounded reader of every file satflock is given: regular files only, a stated size limit |
 //! | support | [`environment`] | threats, obstacles and the continuous closest-approach geometry |
 //! | support | [`metrics`] | five-element cluster characterisation, separation and collision counts |
 //! | support | [`time`] | the scenario epoch, UTC output times and time-scale offsets (hifitime) |
@@ -38,6 +39,7 @@ pub mod dynamics;
 pub mod environment;
 pub mod grid;
 pub mod guidance;
+pub mod input_file;
 pub mod integrate;
 pub mod metrics;
 pub mod orbit;

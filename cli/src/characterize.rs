@@ -3,20 +3,23 @@
 //! The positions come from a CSV file with columns `x_m,y_m,z_m[,radius_m]` (any common frame), or from a
 //! run's trajectory file (`trajectory.csv` or `trajectory.parquet`): the Hill LVLH positions
 //! (`x_lvlh_m`, `y_lvlh_m`, `z_lvlh_m`) of the rows at one recorded time, the one nearest to `--time-s`
-//! or, without it, the last; stderr says which time was used. A file must be a regular file of at most
-//! [`MAX_FILE_BYTES`] (the whole file is read).
+//! or, without it, the last; stderr says which time was used. A trajectory file passes the checks of
+//! every run-directory reader ([`Table::check_trajectory`]). A file must be a regular file of at most
+//! [`satflock::input_file::MAX_TABLE_BYTES`] (the whole file is read, through
+//! [`satflock::input_file`]).
+//!
+//! Positions carry no velocities, so the centre velocity `v_o_mps` is printed as `null` ("not given",
+//! stderr says so), never as a zero vector.
 
 use std::path::Path;
 
 use anyhow::Result;
 
+use satflock::input_file::{self, MAX_TABLE_BYTES};
 use satflock::metrics::{five_elements, FiveElementsWorkspace};
 use satflock::output::Table;
 
 use crate::{print_out, usage};
-
-/// Largest file `characterize` reads \[bytes\] (1 GiB).
-pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// Columns that mark a run's trajectory table.
 const TRAJECTORY_COLUMNS: [&str; 4] = ["t_s", "x_lvlh_m", "y_lvlh_m", "z_lvlh_m"];
@@ -27,23 +30,14 @@ type PointSet = (Vec<[f64; 3]>, Option<Vec<f64>>);
 /// Runs the command on `path`; `time_s` picks the recorded time of a trajectory file.
 pub fn run(path: &Path, time_s: Option<f64>) -> Result<()> {
     let shown = path.display();
-    let metadata = std::fs::metadata(path).map_err(|e| usage(format!("{shown}: {e}")))?;
-    if !metadata.is_file() {
-        return Err(usage(format!(
-            "{shown}: is not a regular file (allowed: a CSV file of positions or a run's trajectory file)"
-        )));
-    }
-    if metadata.len() > MAX_FILE_BYTES {
-        return Err(usage(format!(
-            "{shown}: {} bytes is too large (allowed: at most {MAX_FILE_BYTES} bytes, 1 GiB)",
-            metadata.len()
-        )));
-    }
+    // A device, FIFO or oversized file is refused before anything is read.
+    input_file::open(path, MAX_TABLE_BYTES).map_err(|e| usage(format!("{shown}: {e}")))?;
     let (positions, radii) = if path.extension().is_some_and(|e| e == "parquet") {
         (trajectory_positions(path, time_s)?, None)
     } else {
-        let mut reader =
-            csv::Reader::from_path(path).map_err(|e| usage(format!("{shown}: {e}")))?;
+        let file =
+            input_file::open(path, MAX_TABLE_BYTES).map_err(|e| usage(format!("{shown}: {e}")))?;
+        let mut reader = csv::Reader::from_reader(file);
         let header: Vec<String> = reader
             .headers()
             .map_err(|e| usage(format!("{shown}: {e}")))?
@@ -69,7 +63,10 @@ pub fn run(path: &Path, time_s: Option<f64>) -> Result<()> {
     let mut workspace = FiveElementsWorkspace::new();
     let elements = five_elements(&positions, &velocities, radii.as_deref(), &mut workspace)
         .map_err(|e| usage(format!("{shown}: {e}")))?;
-    print_out(&(serde_json::to_string_pretty(&elements)? + "\n"))
+    let mut json = serde_json::to_value(elements)?;
+    json["v_o_mps"] = serde_json::Value::Null;
+    eprintln!("characterize: centre velocity v_o_mps not given (positions only): null");
+    print_out(&(serde_json::to_string_pretty(&json)? + "\n"))
 }
 
 /// The Hill LVLH positions of a trajectory table's rows at the recorded time nearest to `time_s` (or
@@ -77,25 +74,14 @@ pub fn run(path: &Path, time_s: Option<f64>) -> Result<()> {
 fn trajectory_positions(path: &Path, time_s: Option<f64>) -> Result<Vec<[f64; 3]>> {
     let shown = path.display();
     let table = Table::read(path).map_err(|e| usage(e.to_string()))?;
-    let column = |name: &str| {
-        table.column(name).ok_or_else(|| {
-            usage(format!(
-                "{shown}: no column `{name}` (a run's trajectory file has {})",
-                TRAJECTORY_COLUMNS.join(", ")
-            ))
-        })
-    };
-    let t = column("t_s")?;
-    let (x, y, z) = (
-        column("x_lvlh_m")?,
-        column("y_lvlh_m")?,
-        column("z_lvlh_m")?,
-    );
-    let (Some(&first), Some(&last)) = (t.first(), t.last()) else {
-        return Err(usage(format!(
-            "{shown}: no rows (the run recorded nothing)"
-        )));
-    };
+    table
+        .check_trajectory(path, None)
+        .map_err(|e| usage(e.to_string()))?;
+    let column = |name: &str| table.column(name).unwrap_or_default();
+    let t = column("t_s");
+    let (x, y, z) = (column("x_lvlh_m"), column("y_lvlh_m"), column("z_lvlh_m"));
+    // check_trajectory refuses a table without rows.
+    let (first, last) = (t[0], t[t.len() - 1]);
     let (chosen, how) = match time_s {
         None => (last, "the last recorded time".to_string()),
         Some(wanted) => {

@@ -1,5 +1,7 @@
 //! `satflock export oem|czml RUN_DIR`: a finished (or stopped) run's trajectory as a CCSDS OEM or a CZML
-//! document, written from the run directory by the library's `output::oem` and `output::czml`.
+//! document, written from the run directory by the library's `output::oem` and `output::czml`. An
+//! output path that is one of the files the export reads (`summary.json`, `scene.json`, the metrics or
+//! trajectory table) is refused (exit 2): the export would write over its own input.
 
 use std::path::{Path, PathBuf};
 
@@ -19,7 +21,8 @@ pub enum ExportCommand {
     /// CCSDS OEM 2.0 (KVN) of every satellite's inertial (EME2000) states, in km and km/s, one segment
     /// per satellite. CREATION_DATE is now, or $SOURCE_DATE_EPOCH (seconds since 1970) when set.
     Oem {
-        /// A run's output directory (as written by `satflock run`; needs trajectory.csv).
+        /// A run's output directory (as written by `satflock run`; needs its trajectory, trajectory.csv
+        /// or trajectory.parquet).
         run_dir: PathBuf,
         /// One file per satellite, sat-NNNNN.oem, in a directory (default RUN_DIR/oem).
         #[arg(long)]
@@ -31,7 +34,8 @@ pub enum ExportCommand {
     /// CZML for CesiumJS: the satellites' inertial positions in metres, decimated to stay loadable (what
     /// was kept is printed and written into the document's description).
     Czml {
-        /// A run's output directory (as written by `satflock run`; needs trajectory.csv).
+        /// A run's output directory (as written by `satflock run`; needs its trajectory, trajectory.csv
+        /// or trajectory.parquet).
         run_dir: PathBuf,
         /// Most satellites in the document, evenly spaced among the run's indices.
         #[arg(long, default_value_t = czml::DEFAULT_MAX_SATELLITES,
@@ -63,6 +67,26 @@ fn read_run(dir: &Path) -> Result<RunData> {
     RunData::read(dir).map_err(|e| usage(e.to_string()))
 }
 
+/// Refuses an output path that is one of the files `run` was read from (compared as canonical paths,
+/// so `RUN/./summary.json` or a link to it is caught too).
+fn refuse_own_file(run: &RunData, out: &Path) -> Result<()> {
+    let Ok(target) = out.canonicalize() else {
+        return Ok(()); // a path that does not exist yet is no file of the run
+    };
+    if run
+        .files
+        .iter()
+        .any(|f| f.canonicalize().is_ok_and(|f| f == target))
+    {
+        return Err(usage(format!(
+            "--out {}: is a file of the run directory the export reads (allowed: any other path; \
+             the export would write over its own input)",
+            out.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Runs one export command.
 pub fn export_command(command: ExportCommand) -> Result<()> {
     match command {
@@ -84,6 +108,7 @@ pub fn export_command(command: ExportCommand) -> Result<()> {
                             file.display()
                         )));
                     }
+                    refuse_own_file(&run, &file)?;
                     OemLayout::OneFile(file)
                 }
             };
@@ -113,6 +138,7 @@ pub fn export_command(command: ExportCommand) -> Result<()> {
                     path.display()
                 )));
             }
+            refuse_own_file(&run, &path)?;
             let options = CzmlOptions {
                 max_satellites,
                 max_samples,

@@ -281,6 +281,9 @@ fn val_characterize_prints_the_closed_form_for_a_circle() {
     let l = v["uniformity_l"].as_f64().unwrap();
     assert!((l - exact).abs() < 1e-9 * exact, "L = {l}, exact {exact}");
     assert_eq!(v["n"], 50);
+    // Issue 25: positions carry no velocity, so the centre velocity is not given (null), not zero.
+    assert!(v["v_o_mps"].is_null(), "{}", v["v_o_mps"]);
+    assert!(String::from_utf8_lossy(&output.stderr).contains("not given"));
 }
 
 #[test]

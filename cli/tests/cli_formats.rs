@@ -137,14 +137,15 @@ fn regress_characterize_refuses_devices_and_oversized_files() {
     let o = characterize(Path::new("/dev/zero"), &[]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
-    // A sparse file one byte over the 1 GiB cap (no disk space used).
+    // A sparse file one byte over the 4 GiB cap of tables (no disk space used).
     let dir = scratch_dir("huge");
     let huge = dir.join("huge.csv");
     let file = std::fs::File::create(&huge).unwrap();
-    file.set_len((1 << 30) + 1).unwrap();
+    file.set_len(satflock::input_file::MAX_TABLE_BYTES + 1)
+        .unwrap();
     let o = characterize(&huge, &[]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("1073741824"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("4294967296"), "{}", stderr(&o));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -77,7 +77,7 @@ impl CampaignPlan {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| {
+        let text = satflock::input_file::read_document(&path).map_err(|e| {
             campaign_error(&RustCampaignError::Io {
                 file: file.clone(),
                 message: e.to_string(),

@@ -87,7 +87,7 @@ impl PyScenario {
         let path = Path::new(name_or_path);
         if path.exists() {
             let source = path.display().to_string();
-            let text = std::fs::read_to_string(path).map_err(|e| {
+            let text = satflock::input_file::read_document(path).map_err(|e| {
                 scenario_error(&ScenarioError::Io {
                     file: source.clone(),
                     message: e.to_string(),

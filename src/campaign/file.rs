@@ -179,7 +179,7 @@ impl Campaign {
     /// Reads and validates a campaign file.
     pub fn load(path: &Path) -> Result<Self, CampaignError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
+        let text = crate::input_file::read_document(path).map_err(|e| CampaignError::Io {
             file: file.clone(),
             message: e.to_string(),
         })?;
@@ -606,7 +606,7 @@ fn seeds(value: &toml::Value) -> Result<Vec<u64>, String> {
 fn base_scenario(name: &str, base_dir: &Path) -> Result<BaseScenario, String> {
     let path = base_dir.join(name);
     let (source, dir, text) = if path.is_file() {
-        let text = std::fs::read_to_string(&path)
+        let text = crate::input_file::read_document(&path)
             .map_err(|e| format!("{}: cannot read the file: {e}", path.display()))?;
         let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
         (path.display().to_string(), dir, text)

@@ -203,7 +203,8 @@ pub fn read(path: &Path) -> Result<Contents, CampaignError> {
         path: path.display().to_string(),
         message,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
+    let text = crate::input_file::read_to_string(path, crate::input_file::MAX_TABLE_BYTES)
+        .map_err(|e| fail(e.to_string()))?;
     let mut lines = text.lines();
     let header: Header = lines
         .next()

@@ -514,7 +514,7 @@ pub fn execute(
         }
     };
     // The outcomes as the run's summary.json says them (also those reached by a run that stopped).
-    let outcomes = std::fs::read_to_string(dir.join("summary.json"))
+    let outcomes = crate::input_file::read_document(&dir.join("summary.json"))
         .ok()
         .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
         .map(|summary| scalar_outcomes(&summary).into_iter().collect())

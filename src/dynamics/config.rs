@@ -248,19 +248,8 @@ impl ForcesConfig {
             path: shown.clone(),
             reason,
         };
-        let meta = std::fs::metadata(path).map_err(|e| read(e.to_string()))?;
-        if !meta.is_file() {
-            return Err(read(
-                "is not a regular file (allowed: a TOML force file)".into(),
-            ));
-        }
-        if meta.len() > MAX_FORCES_FILE_BYTES {
-            return Err(read(format!(
-                "is {} bytes (allowed: at most {MAX_FORCES_FILE_BYTES} bytes for a force file)",
-                meta.len()
-            )));
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| read(e.to_string()))?;
+        let text = crate::input_file::read_to_string(path, MAX_FORCES_FILE_BYTES)
+            .map_err(|e| read(e.to_string()))?;
         Self::from_toml(&text, &shown)
     }
 

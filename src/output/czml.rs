@@ -284,6 +284,9 @@ mod tests {
             metrics: Table::default(),
             trajectory: Some(Table::new(names, columns)),
             scene: Default::default(),
+            n_satellites: n,
+            trajectory_path: None,
+            files: Vec::new(),
         }
     }
 

@@ -61,12 +61,13 @@ pub fn inertial_column_names() -> [String; 6] {
 }
 
 impl RunData {
-    /// Every satellite's inertial track from `trajectory.csv`, ordered by satellite index. A satellite
-    /// removed during the run has a track that ends at its last recorded row. Refused (naming the file)
-    /// when the run wrote no trajectory, when a column is missing, or when a row has an empty or
-    /// non-finite state or a malformed `id`.
+    /// Every satellite's inertial track from the trajectory table, ordered by satellite index. A
+    /// satellite removed during the run has a track that ends at its last recorded row. Refused (naming
+    /// the file) when the run wrote no trajectory, when an inertial column is missing, or when a row has
+    /// no inertial state; ids and times were checked by [`RunData::read`].
     pub fn inertial_tracks(&self) -> Result<Vec<InertialTrack>, RunDataError> {
-        let path = self.dir.join("trajectory.csv");
+        let path =
+            (self.trajectory_path.clone()).unwrap_or_else(|| self.dir.join("trajectory.csv"));
         let fail = |message: String| RunDataError {
             path: path.display().to_string(),
             message,
@@ -90,34 +91,22 @@ impl RunData {
             names.iter().map(|n| column(n)).collect::<Result<_, _>>()?;
         let mut tracks: BTreeMap<usize, InertialTrack> = BTreeMap::new();
         for row in 0..table.rows() {
-            let line = row + 2;
-            let id = ids[row];
-            if !(id.is_finite() && id >= 0.0 && id.fract() == 0.0 && id < usize::MAX as f64) {
-                return Err(fail(format!(
-                    "line {line}: id = {id} is not a satellite index (allowed: an integer >= 0)"
-                )));
-            }
-            let t = t_s[row];
             let state: [f64; 6] = std::array::from_fn(|k| state_columns[k][row]);
             if let Some(k) = (0..6).find(|&k| !state[k].is_finite()) {
                 return Err(fail(format!(
-                    "line {line}: `{}` is empty or not finite",
+                    "{}: `{}` has no value (the OEM and CZML exports need the inertial state in every \
+                     row)",
+                    super::run_data::row_name(&path, row),
                     names[k]
                 )));
             }
-            let track = tracks.entry(id as usize).or_insert_with(|| InertialTrack {
-                id: id as usize,
+            let id = ids[row] as usize;
+            let track = tracks.entry(id).or_insert_with(|| InertialTrack {
+                id,
                 t_s: Vec::new(),
                 states: Vec::new(),
             });
-            if !t.is_finite() || track.t_s.last().is_some_and(|&last| t <= last) {
-                return Err(fail(format!(
-                    "line {line}: t_s = {t} does not follow satellite {}'s previous row (allowed: \
-                     increasing times per satellite)",
-                    id as usize
-                )));
-            }
-            track.t_s.push(t);
+            track.t_s.push(t_s[row]);
             track.states.push(state);
         }
         if tracks.is_empty() {

@@ -210,7 +210,8 @@ impl RunTable {
             path: path.display().to_string(),
             message,
         };
-        let file = File::open(path).map_err(|e| fail(e.to_string()))?;
+        let file = crate::input_file::open_parquet(path, crate::input_file::MAX_TABLE_BYTES)
+            .map_err(|e| fail(e.to_string()))?;
         let reader = ParquetRecordBatchReaderBuilder::try_new(file)
             .and_then(|b| b.build())
             .map_err(|e| fail(e.to_string()))?;

@@ -10,6 +10,9 @@ use serde::{Deserialize, Serialize};
 use super::run_data::RunDataError;
 use crate::swarm::SimulationConfig;
 
+/// The scene's file name in a run directory.
+pub const SCENE_FILE: &str = "scene.json";
+
 /// A threat's straight line in the Hill frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SceneThreat {
@@ -91,24 +94,42 @@ impl Scene {
     /// Writes `dir/scene.json` whole (a failed write, e.g. a full disk, leaves no partial file).
     pub fn write(&self, dir: &Path) -> std::io::Result<()> {
         let text = serde_json::to_string_pretty(self).expect("the scene serialises");
-        super::export::write_whole(&dir.join("scene.json"), (text + "\n").as_bytes())
+        super::export::write_whole(&dir.join(SCENE_FILE), (text + "\n").as_bytes())
             .map_err(|e| std::io::Error::other(e.to_string()))
     }
 
-    /// Reads `dir/scene.json`; a run directory without one (written by an older satflock) has an empty
-    /// scene.
+    /// Reads `dir/scene.json` (through [`crate::input_file`]); a run directory without one (written by
+    /// an older satflock) has an empty scene. Radii must be at least 0 (JSON numbers are finite).
     pub fn read(dir: &Path) -> Result<Self, RunDataError> {
-        let path = dir.join("scene.json");
-        match std::fs::read_to_string(&path) {
-            Ok(text) => serde_json::from_str(&text).map_err(|e| RunDataError {
-                path: path.display().to_string(),
-                message: e.to_string(),
-            }),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Self::default()),
-            Err(e) => Err(RunDataError {
-                path: path.display().to_string(),
-                message: e.to_string(),
-            }),
+        let path = dir.join(SCENE_FILE);
+        let fail = |message: String| RunDataError {
+            path: path.display().to_string(),
+            message,
+        };
+        let scene: Self = match crate::input_file::read_document(&path) {
+            Ok(text) => serde_json::from_str(&text).map_err(|e| fail(e.to_string()))?,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Self::default()),
+            Err(e) => return Err(fail(e.to_string())),
+        };
+        let radii = scene
+            .threats
+            .iter()
+            .enumerate()
+            .map(|(k, t)| (format!("threats[{k}].danger_radius_m"), t.danger_radius_m))
+            .chain(
+                scene
+                    .obstacles
+                    .iter()
+                    .enumerate()
+                    .map(|(k, o)| (format!("obstacles[{k}].radius_m"), o.radius_m)),
+            );
+        for (key, r) in radii {
+            if r < 0.0 {
+                return Err(fail(format!(
+                    "`{key}` = {r} is out of range (allowed: >= 0 m)"
+                )));
+            }
         }
+        Ok(scene)
     }
 }

@@ -107,7 +107,7 @@ impl Controller {
     /// Reads a controller file.
     pub fn from_path(path: &Path) -> Result<Self, ScenarioError> {
         let source = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io {
+        let text = crate::input_file::read_document(path).map_err(|e| ScenarioError::Io {
             file: source.clone(),
             message: e.to_string(),
         })?;

@@ -15,7 +15,7 @@ use thiserror::Error;
 
 pub use controller::{Controller, ControllerFile, ControllerOrigin};
 pub use schema::ScenarioFile;
-pub use validate::{merge_law_parameters, Prepared};
+pub use validate::{merge_law_parameters, Prepared, MAX_SATELLITES};
 
 /// A scenario that cannot be loaded or run.
 #[derive(Debug, Error)]
@@ -201,7 +201,7 @@ impl Scenario {
     /// Loads a scenario file from a path.
     pub fn from_path(path: &Path) -> Result<Self, ScenarioError> {
         let source = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::Io {
+        let text = crate::input_file::read_document(path).map_err(|e| ScenarioError::Io {
             file: source.clone(),
             message: e.to_string(),
         })?;

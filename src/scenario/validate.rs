@@ -1484,8 +1484,9 @@ fn resolve_states_csv(base_dir: &Path, path: &str) -> Result<std::path::PathBuf,
 /// and the column, never the file's content.
 fn read_states_csv(path: &Path) -> Result<Vec<[f64; 6]>, String> {
     const HEADER: [&str; 6] = ["x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
-    let mut reader =
-        csv::Reader::from_path(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut reader = crate::input_file::open(path, MAX_STATES_CSV_BYTES)
+        .map(csv::Reader::from_reader)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     let header = reader
         .headers()
         .map_err(|e| format!("{}: {e}", path.display()))?

@@ -263,7 +263,9 @@ fn generated_states(n: usize, earth: &EarthModel) -> Vec<[f64; 6]> {
 fn read_states(path: &Path, n: Option<u64>) -> Result<(Vec<u64>, Vec<[f64; 6]>)> {
     let shown = format!("--initial-states {}", path.display());
     let bad = |e: &dyn std::fmt::Display| usage(format!("{shown}: {e}"));
-    let mut reader = csv::Reader::from_path(path).map_err(|e| bad(&e))?;
+    let mut reader = satflock::input_file::open(path, satflock::input_file::MAX_TABLE_BYTES)
+        .map(csv::Reader::from_reader)
+        .map_err(|e| bad(&e))?;
     let header = reader.headers().map_err(|e| bad(&e))?;
     if header.iter().map(str::trim).ne(HEADER) {
         return Err(bad(&format!(

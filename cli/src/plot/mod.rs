@@ -17,8 +17,11 @@
 //!
 //! Output is deterministic (same run directory, same bytes): no timestamps, tracks in id order, a fixed
 //! embedded font (DejaVu Sans, `cli/assets/fonts/`, drawn by `ab_glyph` without system font libraries).
-//! Swarms larger than [`MAX_TRACKS`] satellites show an evenly spaced subsample of ids, said on the
-//! figure; each track keeps at most [`MAX_TRACK_POINTS`] evenly spaced recordings (and its last).
+//! What a figure draws is capped, so its size does not grow with the run's files: swarms larger than
+//! [`MAX_TRACKS`] satellites show an evenly spaced subsample of ids; each track keeps at most
+//! [`MAX_TRACK_POINTS`] evenly spaced recordings (and its last), and each curve over time at most
+//! [`MAX_SERIES_POINTS`]; at most [`MAX_SCENE_OBJECTS`] threats and as many obstacles are drawn (evenly
+//! spaced by index). Each cut is said on the figure and on stderr ([`PlotReport::describe`]).
 
 mod campaign;
 mod delta_v;
@@ -45,6 +48,22 @@ pub const MAX_TRACKS: usize = 200;
 
 /// Most recordings drawn per track (every k-th recording, and the last).
 pub const MAX_TRACK_POINTS: usize = 1000;
+
+/// Most points drawn per curve over time (every k-th recording, and the last).
+pub const MAX_SERIES_POINTS: usize = 2000;
+
+/// Most threats, and most obstacles, drawn in a figure (an evenly spaced subsample by index beyond).
+pub const MAX_SCENE_OBJECTS: usize = 200;
+
+/// The indices of an evenly spaced subsample of at most `max` of `total` items: `floor(k total / max)`
+/// (all of them when `total <= max`).
+pub(crate) fn evenly_spaced(total: usize, max: usize) -> Vec<usize> {
+    if total <= max {
+        (0..total).collect()
+    } else {
+        (0..max).map(|k| k * total / max).collect()
+    }
+}
 
 /// The font every figure uses (registered under [`FONT`]).
 const FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
@@ -85,6 +104,8 @@ pub struct PlotReport {
     pub written: Vec<PathBuf>,
     /// Figures left out, with the reason (e.g. no `trajectory.csv`).
     pub skipped: Vec<(String, String)>,
+    /// What the figures left out of the run's data (e.g. threats beyond [`MAX_SCENE_OBJECTS`]).
+    pub cuts: Vec<String>,
 }
 
 impl PlotReport {
@@ -97,6 +118,9 @@ impl PlotReport {
         );
         for (name, why) in &self.skipped {
             text.push_str(&format!("; no {name}: {why}"));
+        }
+        for cut in &self.cuts {
+            text.push_str(&format!("; {cut}"));
         }
         text
     }
@@ -139,6 +163,7 @@ pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
     let mut report = PlotReport::default();
     match tracks::Tracks::read(&run) {
         Some(tracks) => {
+            report.cuts.extend(tracks::scene_cuts(&run.scene));
             write_figure(
                 &out,
                 &tracks::Trajectories::new(&context, &tracks),
@@ -489,13 +514,18 @@ pub(crate) fn empty_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Splits a series at its non-finite values into runs of finite points.
+/// Splits a series at its non-finite values into runs of finite points, keeping at most about
+/// [`MAX_SERIES_POINTS`] of them: every k-th point, the first of each run and the last.
 pub(crate) fn finite_runs(t: &[f64], v: &[f64]) -> Vec<Vec<(f64, f64)>> {
+    let n = t.len().min(v.len());
+    let stride = n.div_ceil(MAX_SERIES_POINTS).max(1);
     let mut runs = Vec::new();
     let mut current = Vec::new();
-    for (&t, &v) in t.iter().zip(v) {
+    for (k, (&t, &v)) in t.iter().zip(v).enumerate() {
         if t.is_finite() && v.is_finite() {
-            current.push((t, v));
+            if k % stride == 0 || k + 1 == n || current.is_empty() {
+                current.push((t, v));
+            }
         } else if !current.is_empty() {
             runs.push(std::mem::take(&mut current));
         }
@@ -551,5 +581,15 @@ mod tests {
         assert_eq!(padded_range([3.0, 3.0]), 2.0..4.0);
         let runs = finite_runs(&[0.0, 1.0, 2.0, 3.0], &[1.0, f64::NAN, 2.0, 3.0]);
         assert_eq!(runs, vec![vec![(0.0, 1.0)], vec![(2.0, 2.0), (3.0, 3.0)]]);
+        // Issue 25: a curve of a million recordings is drawn with at most about MAX_SERIES_POINTS points,
+        // its first and last included.
+        let t: Vec<f64> = (0..1_000_000).map(f64::from).collect();
+        let runs = finite_runs(&t, &t);
+        assert_eq!(runs.len(), 1);
+        assert!(runs[0].len() <= MAX_SERIES_POINTS + 1, "{}", runs[0].len());
+        assert_eq!(runs[0].first(), Some(&(0.0, 0.0)));
+        assert_eq!(runs[0].last(), Some(&(999_999.0, 999_999.0)));
+        assert_eq!(evenly_spaced(3, 5), [0, 1, 2]);
+        assert_eq!(evenly_spaced(10, 4), [0, 2, 5, 7]);
     }
 }

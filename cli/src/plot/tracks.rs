@@ -10,7 +10,9 @@
 //!   with no events, at t = 0, T/3, 2T/3 and T), with the target formation in the panels before the first
 //!   event.
 //!
-//! Both use equal scales on their two axes, so circles look round.
+//! Both use equal scales on their two axes, so circles look round. At most
+//! [`MAX_SCENE_OBJECTS`](super::MAX_SCENE_OBJECTS) threats and as many obstacles are drawn (evenly spaced
+//! by index; the figure's title and [`scene_cuts`] say so).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
@@ -24,8 +26,8 @@ use satflock::output::RunData;
 use satflock::scenario::ScenarioFile;
 
 use super::{
-    axes, caption, figure_title, legend, panel, size, DrawError, Figure, RunContext, FONT, MARGIN,
-    MAX_TRACKS, MAX_TRACK_POINTS, X_LABEL_AREA, Y_LABEL_AREA,
+    axes, caption, evenly_spaced, figure_title, legend, panel, size, DrawError, Figure, RunContext,
+    FONT, MARGIN, MAX_SCENE_OBJECTS, MAX_TRACKS, MAX_TRACK_POINTS, X_LABEL_AREA, Y_LABEL_AREA,
 };
 
 /// Most snapshot panels.
@@ -89,7 +91,8 @@ pub(crate) struct Tracks {
 }
 
 impl Tracks {
-    /// The tracks of `trajectory.csv` (`None` when the run wrote none, or it lacks position columns).
+    /// The tracks of the run's trajectory (`None` when the run wrote none). The rows were checked by
+    /// [`RunData::read`]: times and positions have values, ids are satellite indices.
     pub fn read(run: &RunData) -> Option<Self> {
         let table = run.trajectory.as_ref()?;
         let t = table.column("t_s")?;
@@ -99,28 +102,16 @@ impl Tracks {
             table.column("y_lvlh_m")?,
             table.column("z_lvlh_m")?,
         ];
-        let ids: BTreeSet<usize> = id
-            .iter()
-            .filter(|v| v.is_finite() && **v >= 0.0)
-            .map(|v| *v as usize)
-            .collect();
+        let ids: BTreeSet<usize> = id.iter().map(|v| *v as usize).collect();
         let ids: Vec<usize> = ids.into_iter().collect();
         let total = ids.len();
-        let chosen: BTreeSet<usize> = if total > MAX_TRACKS {
-            (0..MAX_TRACKS)
-                .map(|k| ids[k * total / MAX_TRACKS])
-                .collect()
-        } else {
-            ids.into_iter().collect()
-        };
+        let chosen: BTreeSet<usize> = evenly_spaced(total, MAX_TRACKS)
+            .into_iter()
+            .map(|k| ids[k])
+            .collect();
         let mut tracks: BTreeMap<usize, Track> = BTreeMap::new();
         let mut times = BTreeSet::new();
         for row in 0..table.rows() {
-            let p = [xyz[0][row], xyz[1][row], xyz[2][row]];
-            let valid = t[row].is_finite() && id[row].is_finite() && id[row] >= 0.0;
-            if !(valid && p.iter().all(|v| v.is_finite())) {
-                continue;
-            }
             times.insert(t[row].to_bits());
             let i = id[row] as usize;
             if !chosen.contains(&i) {
@@ -132,7 +123,7 @@ impl Tracks {
                 p: Vec::new(),
             });
             track.t.push(t[row]);
-            track.p.push(p);
+            track.p.push([xyz[0][row], xyz[1][row], xyz[2][row]]);
         }
         let mut times: Vec<f64> = times.into_iter().map(f64::from_bits).collect();
         times.sort_by(f64::total_cmp);
@@ -180,13 +171,10 @@ impl Targets {
     pub fn of(scene: &satflock::output::Scene) -> Option<Self> {
         let all = scene.target_formation_lvlh_m.as_deref()?;
         let total = all.len();
-        let points = if total > MAX_TARGET_POINTS {
-            (0..MAX_TARGET_POINTS)
-                .map(|k| all[k * total / MAX_TARGET_POINTS])
-                .collect()
-        } else {
-            all.to_vec()
-        };
+        let points = evenly_spaced(total, MAX_TARGET_POINTS)
+            .into_iter()
+            .map(|k| all[k])
+            .collect();
         Some(Self { points, total })
     }
 
@@ -201,6 +189,41 @@ impl Targets {
             "target formation (law at t = 0)".into()
         }
     }
+}
+
+/// The threats and obstacles a figure draws: at most [`MAX_SCENE_OBJECTS`] of each, evenly spaced by
+/// index.
+struct DrawnObjects<'a> {
+    threats: Vec<&'a SceneThreat>,
+    obstacles: Vec<SceneObstacle>,
+}
+
+impl<'a> DrawnObjects<'a> {
+    fn of(scene: &'a satflock::output::Scene) -> Self {
+        Self {
+            threats: evenly_spaced(scene.threats.len(), MAX_SCENE_OBJECTS)
+                .into_iter()
+                .map(|k| &scene.threats[k])
+                .collect(),
+            obstacles: evenly_spaced(scene.obstacles.len(), MAX_SCENE_OBJECTS)
+                .into_iter()
+                .map(|k| scene.obstacles[k].clone())
+                .collect(),
+        }
+    }
+}
+
+/// What the figures leave out of a scene (empty when every threat and obstacle is drawn), for the
+/// figure's title and stderr.
+pub(crate) fn scene_cuts(scene: &satflock::output::Scene) -> Vec<String> {
+    [
+        ("threats", scene.threats.len()),
+        ("obstacles", scene.obstacles.len()),
+    ]
+    .into_iter()
+    .filter(|(_, n)| *n > MAX_SCENE_OBJECTS)
+    .map(|(what, n)| format!("{MAX_SCENE_OBJECTS} of {n} {what} drawn (evenly spaced by index)"))
+    .collect()
 }
 
 /// A threat as drawn: its danger sphere's centre at the chosen time and that time.
@@ -465,6 +488,7 @@ pub(crate) struct Trajectories<'a> {
     context: &'a RunContext<'a>,
     tracks: &'a Tracks,
     targets: Option<Targets>,
+    objects: DrawnObjects<'a>,
 }
 
 impl<'a> Trajectories<'a> {
@@ -474,15 +498,16 @@ impl<'a> Trajectories<'a> {
             context,
             tracks,
             targets: Targets::of(&context.run.scene),
+            objects: DrawnObjects::of(&context.run.scene),
         }
     }
 
     fn scene(&self) -> Scene<'_> {
-        let scene = &self.context.run.scene;
         Scene {
             targets: self.targets.as_ref(),
-            obstacles: &scene.obstacles,
-            threats: scene
+            obstacles: &self.objects.obstacles,
+            threats: self
+                .objects
                 .threats
                 .iter()
                 .map(|t| closest_recorded_approach(t, self.tracks))
@@ -503,11 +528,15 @@ impl Figure for Trajectories<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         let time = &self.context.time;
-        let title = self.context.title(&format!(
+        let mut what = format!(
             "trajectories in Hill LVLH, t = 0 to {}; {}",
             time.label_value(self.tracks.t_end()),
             self.tracks.coverage()
-        ));
+        );
+        for cut in scene_cuts(&self.context.run.scene) {
+            what.push_str(&format!("; {cut}"));
+        }
+        let title = self.context.title(&what);
         let body = figure_title(root, &title)?;
         let scene = self.scene();
         for (k, (area, (h, v, name))) in body
@@ -572,6 +601,7 @@ pub(crate) struct Snapshots<'a> {
     /// Horizontal and vertical axes (Hill components).
     plane: (usize, usize),
     targets: Option<Targets>,
+    objects: DrawnObjects<'a>,
 }
 
 impl<'a> Snapshots<'a> {
@@ -585,6 +615,7 @@ impl<'a> Snapshots<'a> {
             times: snapshot_times(&tracks.times, &events, &context.time),
             first_event_s,
             targets: Targets::of(&context.run.scene),
+            objects: DrawnObjects::of(&context.run.scene),
             plane: main_plane(tracks),
         }
     }
@@ -592,7 +623,7 @@ impl<'a> Snapshots<'a> {
 
 /// Event times of the run's `scenario.toml`, sorted (none if it is missing or unreadable).
 fn event_times_s(run: &RunData) -> Vec<f64> {
-    let Ok(text) = std::fs::read_to_string(run.dir.join("scenario.toml")) else {
+    let Ok(text) = satflock::input_file::read_document(&run.dir.join("scenario.toml")) else {
         return Vec::new();
     };
     let Ok(file) = toml::from_str::<ScenarioFile>(&text) else {
@@ -708,14 +739,14 @@ impl Figure for Snapshots<'_> {
         let n = self.times.len().max(1);
         let panels = body.split_evenly((n.div_ceil(4), n.min(4)));
         // One range for every panel (all recordings, the targets and obstacles), so sizes compare.
-        let scene = &self.context.run.scene;
+        let objects = &self.objects;
         let mut bounds = Bounds::new();
         for p in self.tracks.points() {
             bounds.add(p[h], p[v]);
         }
         Scene {
             targets: self.targets.as_ref(),
-            obstacles: &scene.obstacles,
+            obstacles: &objects.obstacles,
             threats: Vec::new(),
             threat_span_s: (0.0, 0.0),
         }
@@ -732,10 +763,10 @@ impl Figure for Snapshots<'_> {
             let mut chart = panel(&area, hr.clone(), vr.clone())?;
             axes(&mut chart, AXIS_NAMES[h], AXIS_NAMES[v])?;
             // Threats whose danger sphere at this time is inside the panel.
-            let threats: Vec<ThreatMark<'_>> = scene
+            let threats: Vec<ThreatMark<'_>> = objects
                 .threats
                 .iter()
-                .map(|threat| ThreatMark {
+                .map(|&threat| ThreatMark {
                     threat,
                     t_s: *t,
                     center: threat.position_lvlh_m(*t),
@@ -745,7 +776,7 @@ impl Figure for Snapshots<'_> {
             let before_events = *t < self.first_event_s;
             Scene {
                 targets: self.targets.as_ref().filter(|_| before_events),
-                obstacles: &scene.obstacles,
+                obstacles: &objects.obstacles,
                 threats,
                 threat_span_s: (*t, *t),
             }

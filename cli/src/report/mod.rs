@@ -74,25 +74,11 @@ struct PageData<'a> {
 /// The page of the run directory `dir`.
 pub fn render(dir: &Path) -> Result<String, ReportError> {
     let data = RunData::read(dir)?;
-    let summary_path = dir.join("summary.json").display().to_string();
-    let n_satellites = data
-        .summary
-        .get("n_satellites")
-        .and_then(Value::as_u64)
-        .ok_or_else(|| RunDataError {
-            path: summary_path.clone(),
-            message: "no `n_satellites` (a summary written by `satflock run` has it)".into(),
-        })? as usize;
-    let trajectory_path = dir.join("trajectory.csv").display().to_string();
-    let trajectory = data
-        .trajectory
-        .as_ref()
-        .map(|table| {
-            ViewerData::from_trajectory(table, &trajectory_path, n_satellites, |t| {
-                time::utc_iso(time::at(data.epoch, t))
-            })
+    let trajectory = data.trajectory.as_ref().map(|table| {
+        ViewerData::from_trajectory(table, data.n_satellites, |t| {
+            time::utc_iso(time::at(data.epoch, t))
         })
-        .transpose()?;
+    });
     let scenario = ScenarioText::read(dir)?;
     let plots = read_plots(&dir.join("plots"))?;
     let name = data
@@ -230,7 +216,7 @@ struct ScenarioText {
 impl ScenarioText {
     fn read(dir: &Path) -> Result<Self, RunDataError> {
         let path = dir.join("scenario.toml");
-        let toml = match std::fs::read_to_string(&path) {
+        let toml = match satflock::input_file::read_document(&path) {
             Ok(text) => text,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
                 return Ok(Self {
@@ -460,13 +446,6 @@ fn viewer_section(body: &mut String, trajectory: Option<&ViewerData>, scene: &Sc
         );
         return;
     };
-    if t.times_s.is_empty() {
-        body.push_str(
-            "<p class=\"note\" id=\"viewer-none\">trajectory.csv has no rows: nothing to animate.</p>\n\
-             </section>\n",
-        );
-        return;
-    }
     let _ = writeln!(
         body,
         "<p id=\"viewer-kept\" data-satellites=\"{}\" data-times=\"{}\">{}</p>",
@@ -544,7 +523,8 @@ fn read_plots(dir: &Path) -> Result<Vec<Plot>, RunDataError> {
         if !path.is_file() {
             continue;
         }
-        let bytes = std::fs::read(&path).map_err(|e| error(&path, e))?;
+        let bytes = satflock::input_file::read(&path, satflock::input_file::MAX_TABLE_BYTES)
+            .map_err(|e| error(&path, e))?;
         plots.push(Plot { name, mime, bytes });
     }
     // Each figure once: `satflock plot` writes every figure as SVG and PNG; the SVG (vector, crisp

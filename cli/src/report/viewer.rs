@@ -6,12 +6,14 @@
 //! (`floor(j n / M)` for j = 0 … M − 1), and every k-th recorded time from t = 0, with k the smallest
 //! stride that keeps the floats (3 positions plus one per colour column, per satellite and time) within
 //! [`MAX_FLOATS`] and the times within [`MAX_TIMES`]. A satellite without a row at a kept time (removed
-//! from the swarm, or not recorded) has NaN there; the page draws nothing for it.
+//! from the swarm, or not recorded) has NaN there; the page draws nothing for it. The trajectory is one
+//! [`satflock::output::RunData`] checked (ids below the summary's `n_satellites`, rows in time order);
+//! memory follows the rows and the kept samples, never `n_satellites` itself.
 
 use base64::Engine as _;
 use serde::Serialize;
 
-use satflock::output::{RunDataError, Table};
+use satflock::output::Table;
 
 /// Most floats the page carries (8 MB of `f32`, about 10.7 MB of base64).
 pub const MAX_FLOATS: usize = 2_000_000;
@@ -41,7 +43,9 @@ impl Decimation {
     /// `floats_per_sample` floats per satellite and time.
     pub fn plan(n_satellites: usize, n_times: usize, floats_per_sample: usize) -> Self {
         let m = n_satellites.min(MAX_SATELLITES);
-        let satellites = (0..m).map(|j| j * n_satellites / m).collect();
+        let satellites = (0..m)
+            .map(|j| (j as u128 * n_satellites as u128 / m as u128) as usize)
+            .collect();
         let per_time = (m * floats_per_sample).max(1);
         let max_times = (MAX_FLOATS / per_time).clamp(1, MAX_TIMES);
         let time_stride = n_times.div_ceil(max_times).max(1);
@@ -83,11 +87,10 @@ pub struct ViewerData {
     pub colour_columns: Vec<ColourColumn>,
 }
 
-fn column<'a>(table: &'a Table, name: &str, path: &str) -> Result<&'a [f64], RunDataError> {
-    table.column(name).ok_or_else(|| RunDataError {
-        path: path.to_string(),
-        message: format!("no `{name}` column (a trajectory written by `satflock run` has one)"),
-    })
+/// A column of a checked trajectory (the law's columns are named from the table itself; the fixed
+/// ones are required by [`Table::check_trajectory`]).
+fn column<'a>(table: &'a Table, name: &str) -> &'a [f64] {
+    table.column(name).unwrap_or_default()
 }
 
 fn encode(values: &[f32]) -> String {
@@ -96,20 +99,20 @@ fn encode(values: &[f32]) -> String {
 }
 
 impl ViewerData {
-    /// The view's data from a trajectory table (`path` names it in errors), the run's satellite count
-    /// (ids run from 0 below it) and a function giving the UTC text of an elapsed time.
+    /// The view's data from a trajectory table checked by [`satflock::output::RunData::read`], the
+    /// run's satellite count (ids run from 0 below it) and a function giving the UTC text of an
+    /// elapsed time.
     pub fn from_trajectory(
         table: &Table,
-        path: &str,
         n_satellites: usize,
         utc: impl Fn(f64) -> String,
-    ) -> Result<Self, RunDataError> {
-        let t = column(table, "t_s", path)?;
-        let id = column(table, "id", path)?;
+    ) -> Self {
+        let t = column(table, "t_s");
+        let id = column(table, "id");
         let xyz = [
-            column(table, "x_lvlh_m", path)?,
-            column(table, "y_lvlh_m", path)?,
-            column(table, "z_lvlh_m", path)?,
+            column(table, "x_lvlh_m"),
+            column(table, "y_lvlh_m"),
+            column(table, "z_lvlh_m"),
         ];
         let names = table.names();
         let law_columns: Vec<&str> = names
@@ -119,22 +122,7 @@ impl ViewerData {
             .iter()
             .map(String::as_str)
             .collect();
-        // Satellite index and recording-time index of every row.
-        let mut ids = Vec::with_capacity(id.len());
         let n = n_satellites;
-        for (row, &v) in id.iter().enumerate() {
-            if !(v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v < n as f64) {
-                return Err(RunDataError {
-                    path: path.to_string(),
-                    message: format!(
-                        "line {}: id `{v}` is not a satellite index (allowed: an integer from 0 \
-                         below summary.json n_satellites = {n})",
-                        row + 2
-                    ),
-                });
-            }
-            ids.push(v as usize);
-        }
         let mut time_index = Vec::with_capacity(t.len());
         let mut times = Vec::new();
         for &ti in t {
@@ -145,21 +133,17 @@ impl ViewerData {
         }
         let floats_per_sample = 3 + law_columns.len();
         let plan = Decimation::plan(n, times.len(), floats_per_sample);
-        let mut slot = vec![None; n];
-        for (k, &s) in plan.satellites.iter().enumerate() {
-            slot[s] = Some(k);
-        }
         let m = plan.satellites.len();
         let samples = plan.kept_times * m;
         let mut positions = vec![f32::NAN; 3 * samples];
         let mut outputs = vec![vec![f32::NAN; samples]; law_columns.len()];
-        let law_values: Vec<&[f64]> = law_columns
-            .iter()
-            .map(|name| column(table, name, path))
-            .collect::<Result<_, _>>()?;
+        let law_values: Vec<&[f64]> = law_columns.iter().map(|name| column(table, name)).collect();
         for row in 0..t.len() {
             let ti = time_index[row];
-            let Some(k) = slot[ids[row]] else { continue };
+            // The kept satellites are sorted: a binary search, not a table as long as n_satellites.
+            let Ok(k) = plan.satellites.binary_search(&(id[row] as usize)) else {
+                continue;
+            };
             if ti % plan.time_stride != 0 {
                 continue;
             }
@@ -172,7 +156,7 @@ impl ViewerData {
             }
         }
         let times_s: Vec<f64> = times.iter().step_by(plan.time_stride).copied().collect();
-        Ok(Self {
+        Self {
             n_satellites_recorded: n,
             n_times_recorded: times.len(),
             time_stride: plan.time_stride,
@@ -188,7 +172,7 @@ impl ViewerData {
                     values_f32le: encode(values),
                 })
                 .collect(),
-        })
+        }
     }
 
     /// One sentence saying what the view keeps.
@@ -307,8 +291,7 @@ mod tests {
                 .map(|c| rows.iter().map(|r| r[c]).collect())
                 .collect(),
         );
-        let data =
-            ViewerData::from_trajectory(&table, "trajectory.csv", 2, |t| format!("T{t}")).unwrap();
+        let data = ViewerData::from_trajectory(&table, 2, |t| format!("T{t}"));
         assert_eq!(data.times_s, [0.0, 1.0, 2.0]);
         assert_eq!(data.times_utc, ["T0", "T1", "T2"]);
         let p = decode(&data.positions_lvlh_m_f32le);
@@ -328,25 +311,6 @@ mod tests {
             data.kept_sentence(),
             "Showing 2 of 2 satellites at 3 of 3 recorded times."
         );
-        // A bad id names the file and the line.
-        let mut bad = table.clone();
-        bad = Table::new(
-            bad.names().to_vec(),
-            bad.names()
-                .iter()
-                .map(|n| {
-                    let mut c = bad.column(n).unwrap().to_vec();
-                    if n == "id" {
-                        c[3] = -1.0;
-                    }
-                    c
-                })
-                .collect(),
-        );
-        let e =
-            ViewerData::from_trajectory(&bad, "trajectory.csv", 2, |_| String::new()).unwrap_err();
-        assert_eq!(e.path, "trajectory.csv");
-        assert!(e.message.contains("line 5"), "{}", e.message);
     }
 
     #[test]
