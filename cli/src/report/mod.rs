@@ -166,8 +166,11 @@ fn number(x: f64) -> String {
     if (1e-3..1e6).contains(&a) {
         let decimals = (5 - a.log10().floor() as i32).max(0) as usize;
         let text = format!("{x:.decimals$}");
-        let text = text.trim_end_matches('0').trim_end_matches('.');
-        return text.to_string();
+        // Only a fraction's trailing zeros go: 270169.7 is "270170", not "27017".
+        return match text.contains('.') {
+            true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
+            false => text,
+        };
     }
     format!("{x:.5e}")
 }
@@ -540,6 +543,31 @@ fn read_plots(dir: &Path) -> Result<Vec<Plot>, RunDataError> {
     Ok(plots)
 }
 
+/// Smallest text a report figure may show \[CSS px\].
+const MIN_FIGURE_TEXT_PX: u32 = 11;
+
+/// The narrowest a figure `width` px wide may be shown so that its smallest text (the tick labels,
+/// [`crate::plot::size::TICKS`]) is at least [`MIN_FIGURE_TEXT_PX`].
+fn min_display_width(width: u32) -> u32 {
+    (width * MIN_FIGURE_TEXT_PX).div_ceil(crate::plot::size::TICKS)
+}
+
+/// A figure's width in pixels: an SVG's `width` attribute, a PNG's header; `None` if it has none.
+fn figure_width(plot: &Plot) -> Option<u32> {
+    if plot.mime == "image/png" {
+        let bytes: [u8; 4] = plot.bytes.get(16..20)?.try_into().ok()?;
+        return Some(u32::from_be_bytes(bytes));
+    }
+    let head = String::from_utf8_lossy(plot.bytes.get(..plot.bytes.len().min(1024))?);
+    let start = head.find("<svg")?;
+    let rest = &head[start..];
+    let value = &rest[rest.find(" width=\"")? + 8..];
+    value[..value.find('"')?]
+        .trim_end_matches("px")
+        .parse()
+        .ok()
+}
+
 fn plots_section(body: &mut String, plots: &[Plot]) {
     body.push_str("<section id=\"plots\">\n<h2>Plots</h2>\n");
     if plots.is_empty() {
@@ -550,9 +578,14 @@ fn plots_section(body: &mut String, plots: &[Plot]) {
     }
     for plot in plots {
         // As images (data URLs): an image's own links are never fetched and its scripts never run.
+        // Shrunk to the page at most down to a scale that keeps the smallest text readable; a wider
+        // figure scrolls in its frame.
+        let min_width = figure_width(plot)
+            .map(|w| format!(" style=\"min-width: {}px\"", min_display_width(w)))
+            .unwrap_or_default();
         let _ = writeln!(
             body,
-            "<figure><img alt=\"{name}\" src=\"data:{};base64,{}\"><figcaption>{name}</figcaption></figure>",
+            "<figure><img alt=\"{name}\"{min_width} src=\"data:{};base64,{}\"><figcaption>{name}</figcaption></figure>",
             plot.mime,
             base64::engine::general_purpose::STANDARD.encode(&plot.bytes),
             name = escape(&plot.name)
@@ -566,12 +599,56 @@ mod tests {
     use super::*;
 
     #[test]
+    fn figures_keep_their_text_at_least_11_px() {
+        let svg = Plot {
+            name: "tracks.svg".into(),
+            mime: "image/svg+xml",
+            bytes: b"<svg width=\"1800\" height=\"680\" viewBox=\"0 0 1800 680\" xmlns=\"x\">"
+                .to_vec(),
+        };
+        assert_eq!(figure_width(&svg), Some(1800));
+        let mut png = vec![0u8; 24];
+        png[16..20].copy_from_slice(&1400u32.to_be_bytes());
+        let png = Plot {
+            name: "delta_v.png".into(),
+            mime: "image/png",
+            bytes: png,
+        };
+        assert_eq!(figure_width(&png), Some(1400));
+        for width in [1000, 1400, 1800] {
+            let shown = min_display_width(width);
+            let text_px = f64::from(crate::plot::size::TICKS) * f64::from(shown) / f64::from(width);
+            assert!(text_px >= 11.0, "{width}: {text_px}");
+        }
+        let mut body = String::new();
+        plots_section(&mut body, &[svg]);
+        assert!(body.contains("style=\"min-width: 1524px\""), "{body}");
+    }
+
+    #[test]
     fn numbers_and_text_for_people() {
         assert_eq!(number(3.0), "3");
         assert_eq!(number(-0.5), "-0.5");
         assert_eq!(number(5.9570903740594), "5.95709");
         assert_eq!(number(170644.6512313958), "170645");
         assert_eq!(number(1.25e-5), "1.25000e-5");
+        // A table of values across the decades, integers' own zeros kept (issue 25: 270169.7 was
+        // "27017", 100000.4 was "1").
+        for (x, text) in [
+            (270169.7, "270170"),
+            (100000.4, "100000"),
+            (999999.4, "999999"),
+            (120000.25, "120000"),
+            (10000.5, "10000.5"),
+            (1000.04, "1000.04"),
+            (0.00100, "0.001"),
+            (0.0012345678, "0.00123457"),
+            (-250000.2, "-250000"),
+            (1.0e6 + 0.5, "1.00000e6"),
+            (100.0, "100"),
+        ] {
+            assert_eq!(number(x), text, "{x}");
+        }
         assert_eq!(escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
         // Placeholders are filled once: inserted text is not scanned.
         assert_eq!(
