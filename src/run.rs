@@ -714,6 +714,46 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// Issue 25: a command above ~1e154 m/s^2 overflowed the norm and was applied as zero thrust (the run
+    /// "completed" with delta-v 0). Now the run stops as failed, naming the satellite, tick and law, in
+    /// both control timings.
+    #[test]
+    fn regress_overflowing_command_fails_the_run() {
+        for control in ["", "[control]\nmode = \"sampled\"\nperiod_s = 1.0\n"] {
+            let text = format!(
+                "name = \"huge\"\nseed = 1\nduration_s = 20.0\nrecord_interval_s = 10.0\n\
+                 [reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n\
+                 [satellites]\ncount = 3\nmass_kg = 1.0\n\
+                 initial = {{ distribution = \"sphere\", radius_m = 50.0 }}\n\
+                 [law]\nname = \"hold\"\nstiffness_per_s2 = 1e-4\ndamping_per_s = 2e-2\n\
+                 slot_offset_hill_m = [1e160, 0.0, 0.0]\n{control}"
+            );
+            let scenario = Scenario::from_toml(&text, "huge.toml", Path::new(".")).unwrap();
+            let dir = std::env::temp_dir().join(format!("satflock-huge-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            let e = run_scenario(&scenario, &dir, &mut |_| {}).unwrap_err();
+            match &e {
+                RunError::Simulation(SimError::BadCommand {
+                    satellite: 0,
+                    tick: 0,
+                    law,
+                    ..
+                }) => assert_eq!(law, "hold"),
+                other => panic!("{control}: expected BadCommand of satellite 0, got {other:?}"),
+            }
+            let summary: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
+                    .unwrap();
+            assert_eq!(summary["status"], "failed");
+            let reason = summary["error"].as_str().unwrap();
+            assert!(
+                reason.contains("law `hold` commanded satellite 0") && reason.contains("tick 0"),
+                "{reason}"
+            );
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
+    }
+
     #[test]
     fn regress_output_dir_refuses_foreign_and_clears_previous_run() {
         let dir = std::env::temp_dir().join(format!("satflock-outdir-{}", std::process::id()));

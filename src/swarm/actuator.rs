@@ -38,7 +38,9 @@ impl Actuator {
     }
 
     /// The acceleration actually applied for a commanded one, Hill frame \[m/s^2\]: failed axes zeroed,
-    /// then the limit applied.
+    /// then the limit applied. A command with a non-finite component, or (norm limit) whose norm
+    /// overflows (above about 1e154 m/s^2), is returned as it is, never saturated to zero or to the
+    /// limit: the engine refuses it ([`crate::swarm::SimError::BadCommand`]).
     pub fn apply(&self, commanded_hill_m_s2: &Vector3<f64>) -> Vector3<f64> {
         let mut a = *commanded_hill_m_s2;
         for k in 0..3 {
@@ -50,10 +52,11 @@ impl Actuator {
         match self.limit {
             LimitKind::Norm => {
                 let norm = a.norm();
-                if norm > limit {
+                if norm.is_finite() && norm > limit {
                     a *= limit / norm;
                 }
             }
+            LimitKind::PerAxis if a.iter().any(|x| !x.is_finite()) => {}
             LimitKind::PerAxis => {
                 for k in 0..3 {
                     a[k] = a[k].clamp(-limit, limit);
@@ -67,6 +70,23 @@ impl Actuator {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 25: an overflowing norm made the saturation scale zero (no thrust); a non-finite or
+    /// overflowing command now passes through unsaturated, for the engine to refuse.
+    #[test]
+    fn regress_overflowing_command_is_not_saturated_to_zero() {
+        let huge = Vector3::new(1e160, 1e160, 0.0);
+        assert_eq!(Actuator::new(1.0, LimitKind::Norm).apply(&huge), huge);
+        let inf = Vector3::new(f64::INFINITY, 0.0, 0.0);
+        assert_eq!(Actuator::new(1.0, LimitKind::PerAxis).apply(&inf), inf);
+        // Finite commands saturate as before.
+        let big = Vector3::new(3.0, 4.0, 0.0);
+        assert!((Actuator::new(1.0, LimitKind::Norm).apply(&big).norm() - 1.0).abs() < 1e-15);
+        assert_eq!(
+            Actuator::new(1.0, LimitKind::PerAxis).apply(&big),
+            Vector3::new(1.0, 1.0, 0.0)
+        );
+    }
 
     #[test]
     fn val_norm_limit_keeps_direction() {

@@ -298,6 +298,26 @@ pub enum SimError {
         /// What was seen.
         reason: Divergence,
     },
+    /// The law commanded a live satellite a non-finite acceleration (or velocity, kinematic model), or
+    /// one whose norm overflows: the run stops rather than apply it as zero or saturated thrust.
+    #[error(
+        "law `{law}` commanded satellite {satellite} [{}, {}, {}] at tick {tick} (segment from t = \
+         {time_s} s): not a finite command (allowed: finite components whose norm is finite, below \
+         about 1e154 m/s^2)",
+        command[0], command[1], command[2]
+    )]
+    BadCommand {
+        /// Id of the satellite (the smallest such id).
+        satellite: usize,
+        /// The control tick (sampled) or the tick of the segment (continuous).
+        tick: u64,
+        /// Start of the segment \[s\].
+        time_s: f64,
+        /// The law's name.
+        law: String,
+        /// The command after the actuator's failed axes, Hill frame \[m/s^2\] (\[m/s\] kinematic).
+        command: [f64; 3],
+    },
     /// The integrator failed (step-size underflow, non-finite derivative).
     #[error("integration failed: {0}")]
     Integration(#[from] IntegrateError),

@@ -1,17 +1,22 @@
 //! The truth monitors, run after every segment on truth states whatever the law does: divergence (a
 //! non-finite state, or a satellite beyond the allowed distance), the minimum separation and collision
 //! count, and the continuous closest approach to every threat and clearance of every obstacle (from each
-//! satellite's cubic Hermite path over the segment, so a minimum between two steps is not missed).
+//! satellite's cubic Hermite path over the segment, so a minimum between two steps is not missed); and
+//! the applied commands, which must be finite ([`check_commands`]).
+
+use nalgebra::Vector3;
 
 use crate::environment::HermiteSegment;
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
 use crate::orbit::RelativeStateHill;
 use rayon::prelude::*;
 
+use crate::swarm::simulation::satellites::Fleet;
 use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::{Divergence, SimError, Simulation};
 use crate::swarm::state::satellite_of;
 use crate::swarm::storage_order::permute;
+use crate::swarm::Law;
 
 /// The truth monitors' own state: the live metrics' buffers, the continuous threat and obstacle
 /// monitor, and the truth at the start of the segment their Hermite paths start from.
@@ -189,5 +194,33 @@ pub(super) fn live_separation(
         Ok(sep) => (sep.min_distance_m, sep.collisions),
         Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
         Err(_) => (f64::NAN, 0),
+    }
+}
+
+/// Refuses a non-finite applied command (`applied_hill`, by storage index) of a live satellite of
+/// `fleet`: [`SimError::BadCommand`] naming the smallest such id, the law, the tick and the segment's
+/// start `time_s` \[s\].
+pub(super) fn check_commands(
+    applied_hill: &[Vector3<f64>],
+    fleet: &Fleet,
+    law: &Law,
+    tick: u64,
+    time_s: f64,
+) -> Result<(), SimError> {
+    let bad = applied_hill
+        .iter()
+        .enumerate()
+        .filter(|&(i, u)| fleet.active[i] && !u.norm().is_finite())
+        .map(|(i, u)| (fleet.order.id_at(i), u))
+        .min_by_key(|(id, _)| *id);
+    match bad {
+        None => Ok(()),
+        Some((satellite, u)) => Err(SimError::BadCommand {
+            satellite,
+            tick,
+            time_s,
+            law: law.name().to_string(),
+            command: [u.x, u.y, u.z],
+        }),
     }
 }

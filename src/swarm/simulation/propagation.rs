@@ -33,6 +33,11 @@ pub(super) struct StageScratch {
 }
 
 impl StageScratch {
+    /// The applied commands of the last right-hand-side evaluation, by storage index.
+    pub fn applied_hill(&self) -> &[Vector3<f64>] {
+        &self.applied_hill
+    }
+
     pub fn new(n: usize) -> Self {
         Self {
             truth: vec![RelativeStateHill::default(); n],

@@ -14,6 +14,7 @@ use crate::orbit::LvlhFrame;
 use crate::random::{Purpose, RandomStream};
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::recorder::Recorder;
+use crate::swarm::simulation::monitors::check_commands;
 use crate::swarm::simulation::propagation::{CoupledSwarm, SampledSegment};
 use crate::swarm::simulation::sensing::{Plant, CHUNK};
 use crate::swarm::simulation::{Integration, RunTotals, SimError, Simulation, SimulationConfig};
@@ -186,7 +187,18 @@ impl Simulation {
                     process_noise_hill: &self.noise.process_hill,
                     scratch,
                 };
-                stepper.advance(&system, t0, t1, self.state.as_mut_slice(), config.step_s)?;
+                let advanced =
+                    stepper.advance(&system, t0, t1, self.state.as_mut_slice(), config.step_s);
+                // A non-finite command is named before the integration failure it causes.
+                let scratch = scratch.lock().unwrap_or_else(|e| e.into_inner());
+                check_commands(
+                    scratch.applied_hill(),
+                    &self.satellites.fleet,
+                    &self.law,
+                    self.clock.tick - 1,
+                    t0,
+                )?;
+                advanced?;
             }
             Integration::Sampled(buffers) => {
                 let reference_rhs = |t: f64, y: &[f64], dy: &mut [f64]| {
@@ -305,6 +317,13 @@ impl Simulation {
                 .is_inertial()
                 .then(|| plant.frame(t0, self.state.as_slice()));
             self.hold_commands(frame);
+            check_commands(
+                &self.satellites.applied_hill,
+                &self.satellites.fleet,
+                &self.law,
+                tick,
+                t0,
+            )?;
         }
         self.timings.law_s += clock.elapsed().as_secs_f64();
         if kinematic {
