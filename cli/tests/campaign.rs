@@ -176,8 +176,13 @@ fn val_table_is_the_same_with_one_or_two_jobs_and_a_run_equals_a_plain_run() {
     let drawn = png.pixels().filter(|p| p.0 != [255, 255, 255]).count();
     assert!(drawn as f64 > 0.01 * f64::from(png.width() * png.height()));
     let svg = std::fs::read_to_string(one.join("plots/outcomes.svg")).unwrap();
-    assert!(svg.contains("\nlog10 law.stiffness_per_s2\n</text>"));
-    assert!(svg.contains("\nlaw.damping_per_s\n</text>"));
+    // Axis labels carry units.
+    assert!(
+        svg.contains("\nlog10 law.stiffness [1/s²]\n</text>"),
+        "x label"
+    );
+    assert!(svg.contains("\nlaw.damping [1/s]\n</text>"), "x label");
+    assert!(svg.contains("\ndelta_v.mean [m/s]\n</text>"), "y label");
 
     // Run 1 (damping 0.01, first stiffness sample, seed 11) as a plain `satflock run` of the built-in
     // scenario edited by hand.

@@ -12,8 +12,8 @@ use plotters::prelude::*;
 use satflock::output::outcomes::RunTable;
 
 use super::{
-    axes, caption, empty_panel, figure_title, padded_range, panel, register_embedded_font,
-    write_figure, DrawError, Figure, PlotError, PlotReport,
+    axes, caption, column_label, empty_panel, figure_title, padded_range, panel,
+    register_embedded_font, write_figure, DrawError, Figure, PlotError, PlotReport,
 };
 
 /// Panel size \[px\].
@@ -121,12 +121,13 @@ impl Figure for Outcomes<'_> {
             let x = padded_range(points.iter().map(|p| p.0));
             let y = padded_range(points.iter().map(|p| p.1));
             let mut chart = panel(&area, x, y)?;
+            // Units in the labels, from the names' suffixes.
             let x_desc = if parameter.log {
-                format!("log10 {}", parameter.key)
+                format!("log10 {}", column_label(&parameter.key))
             } else {
-                parameter.key.clone()
+                column_label(&parameter.key)
             };
-            axes(&mut chart, &x_desc, outcome)?;
+            axes(&mut chart, &x_desc, &column_label(outcome))?;
             chart.draw_series(
                 points
                     .iter()

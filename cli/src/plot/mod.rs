@@ -359,10 +359,16 @@ pub(crate) fn tick(v: f64) -> String {
     trim_number(v + 0.0, 6)
 }
 
-/// The axis label of a CSV column: its name without the unit suffix, and the unit in brackets
-/// (`d_max_m` → `d_max [m]`; no unit suffix → `[-]`, a count or a ratio).
+/// The axis label of a CSV column or a dotted outcome or parameter name: the name without its unit
+/// suffix, and the unit in brackets (`d_max_m` → `d_max [m]`; `delta_v_mps.mean` → `delta_v.mean [m/s]`,
+/// the unit of the last segment that has one; `law.damping_per_s` → `law.damping [1/s]`; no unit
+/// suffix → `[-]`, a count or a ratio).
 pub(crate) fn column_label(name: &str) -> String {
     const UNITS: &[(&str, &str)] = &[
+        ("_kg_per_m_s2", "kg/(m s²)"),
+        ("_kg_per_s", "kg/s"),
+        ("_per_s2", "1/s²"),
+        ("_per_s", "1/s"),
         ("_mps2", "m/s²"),
         ("_mps", "m/s"),
         ("_deg", "deg"),
@@ -371,9 +377,14 @@ pub(crate) fn column_label(name: &str) -> String {
         ("_s", "s"),
         ("_h", "h"),
     ];
-    for (suffix, unit) in UNITS {
-        if let Some(stem) = name.strip_suffix(suffix) {
-            return format!("{stem} [{unit}]");
+    let segments: Vec<&str> = name.split('.').collect();
+    for (k, segment) in segments.iter().enumerate().rev() {
+        for (suffix, unit) in UNITS {
+            if let Some(stem) = segment.strip_suffix(suffix) {
+                let mut parts = segments.clone();
+                parts[k] = stem;
+                return format!("{} [{unit}]", parts.join("."));
+            }
         }
     }
     format!("{name} [-]")
@@ -551,6 +562,19 @@ mod tests {
         );
         assert_eq!(column_label("uniformity_l"), "uniformity_l [-]");
         assert_eq!(column_label("collisions"), "collisions [-]");
+        // Dotted campaign names: the unit of the last segment that has one.
+        assert_eq!(column_label("delta_v_mps.mean"), "delta_v.mean [m/s]");
+        assert_eq!(
+            column_label("final.five_elements.d_max_m"),
+            "final.five_elements.d_max [m]"
+        );
+        assert_eq!(column_label("law.stiffness_per_s2"), "law.stiffness [1/s²]");
+        assert_eq!(column_label("law.damping_per_s"), "law.damping [1/s]");
+        assert_eq!(column_label("law.k_f_kg_per_m_s2"), "law.k_f [kg/(m s²)]");
+        assert_eq!(
+            column_label("environment.threat_incursions"),
+            "environment.threat_incursions [-]"
+        );
     }
 
     #[test]
