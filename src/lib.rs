@@ -11,13 +11,13 @@
 //!
 //! | layer | module | holds |
 //! | --- | --- | --- |
+//! | base | [`input_file`] | the one bounded reader of every file satflock is given: regular files only, a stated size limit |
 //! | physics | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
 //! | physics | [`dynamics`] | force models behind one trait: gravity (point mass, J2, zonal), drag and atmospheres, SRP, Sun and Moon; the force set of a run |
 //! | physics | [`integrate`] | RK4, adaptive RKF7(8) and DOP853 over state vectors of any length; a run-time [`integrate::Stepper`] |
 //! | physics | [`relative`] | Hill-Clohessy-Wiltshire, J2-linearised (Schweighart-Sedwick) and averaged-J2 relative motion |
 //! | support | [`random`] | every random draw of a run: one stream per (seed, purpose, satellite, tick) |
 //! | support | [`grid`] | the cell-list neighbour grid (radius and nearest queries) |
-//! | support | [`input_file`] | the one bounded reader of every file satflock is given: regular files only, a stated size limit |
 //! | support | [`environment`] | threats, obstacles and the continuous closest-approach geometry |
 //! | support | [`metrics`] | five-element cluster characterisation, separation and collision counts |
 //! | support | [`time`] | the scenario epoch, UTC output times and time-scale offsets (hifitime) |

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use arrow_array::cast::AsArray;
 use arrow_array::types::{Float64Type, UInt64Type};
 use arrow_schema::DataType;
-use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+use parquet::arrow::arrow_reader::{ArrowReaderOptions, ParquetRecordBatchReaderBuilder};
 use thiserror::Error;
 
 use crate::input_file::{self, MAX_TABLE_BYTES};
@@ -108,7 +108,10 @@ impl Table {
     pub fn read_parquet(path: &Path) -> Result<Self, RunDataError> {
         let error = |e: &dyn std::fmt::Display| RunDataError::new(path, e.to_string());
         let file = input_file::open_parquet(path, MAX_TABLE_BYTES).map_err(|e| error(&e))?;
-        let builder = ParquetRecordBatchReaderBuilder::try_new(file)
+        // The schema comes from the Parquet schema alone: the embedded Arrow schema (`ARROW:schema`)
+        // is not decoded, as arrow-ipc panics on some damaged ones (found by `fuzz_run_dirs`).
+        let options = ArrowReaderOptions::new().with_skip_arrow_metadata(true);
+        let builder = ParquetRecordBatchReaderBuilder::try_new_with_options(file, options)
             .map_err(|e| {
                 RunDataError::new(
                     path,
