@@ -85,13 +85,17 @@ pub enum PropagateError {
 /// ends an orbit within a revolution.
 pub const MIN_PERIGEE_ALTITUDE_M: f64 = 100e3;
 
+/// Most fixed (RK4) steps accepted over the duration: the scenarios' bound on satellite-steps
+/// (`[output] allow_large`); beyond, a too small step is likely a unit mistake.
+pub const MAX_RK4_STEPS: f64 = 1e10;
+
 /// Most output times accepted (each a row of every orbit): beyond, a too small output step is likely a
 /// unit mistake.
 pub const MAX_OUTPUTS: f64 = 1e7;
 
 impl PropagationSettings {
     /// Refuses settings out of range (each named, with its allowed range): durations and steps not
-    /// finite and positive, tolerances out of range, too many outputs, Earth constants that are not
+    /// finite and positive, tolerances out of range, too many RK4 steps or outputs, Earth constants that are not
     /// finite and positive (J2: >= 0). [`propagate`] applies it first.
     pub fn check(&self) -> Result<(), PropagateError> {
         let positive = |setting, value: f64| {
@@ -132,6 +136,15 @@ impl PropagationSettings {
                 setting: "mu_m3_s2",
                 value: self.forces.earth().mu_m3_s2,
                 allowed: "the force set's Earth constants equal to the settings' earth",
+            });
+        }
+        if self.integrator == IntegratorMethod::Rk4 && self.duration_s / self.step_s > MAX_RK4_STEPS
+        {
+            return Err(PropagateError::InvalidSetting {
+                setting: "step_s",
+                value: self.step_s,
+                allowed:
+                    "at most 1e10 RK4 steps over the duration, as the scenarios' satellite-steps",
             });
         }
         if self.duration_s / self.output_step_s > MAX_OUTPUTS {

@@ -752,3 +752,15 @@ fn regress_start_inside_an_obstacle_is_refused_unless_allowed() {
     )
     .unwrap();
 }
+
+/// Issue 25: a threat warning in a scenario without `[[threats]]` was refused with "allowed: 0..0".
+#[test]
+fn regress_threat_warning_without_threats_says_there_are_none() {
+    let message = refused(
+        "[law]",
+        "[[events]]\ntime_s = 10.0\naction = \"threat-warning\"\nthreat = 0\nactive = true\n\n[law]",
+        "events[0].threat",
+        &["no [[threats]] to warn about"],
+    );
+    assert!(!message.contains("0..0"), "{message}");
+}

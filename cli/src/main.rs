@@ -495,6 +495,13 @@ fn install_signal_handlers() -> Result<(Arc<AtomicBool>, Arc<AtomicUsize>)> {
 
 /// A scenario by path or built-in name, steered by the controller `law` if given (`--law`).
 fn load_scenario(scenario: &str, law: Option<&str>) -> Result<Scenario> {
+    for (option, value) in [("SCENARIO", Some(scenario)), ("--law", law)] {
+        if value.is_some_and(|v| v.trim().is_empty()) {
+            return Err(usage(format!(
+                "{option}: the path is empty (allowed: a file path or a built-in name)"
+            )));
+        }
+    }
     let scenario = Scenario::load(scenario).map_err(|e| usage(e.to_string()))?;
     match law {
         Some(spec) => {
@@ -934,6 +941,13 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
     .map_err(|e| match e {
         satflock::propagate::PropagateError::InvalidSetting { .. }
         | satflock::propagate::PropagateError::InvalidOrbit { .. } => usage(e.to_string()),
+        satflock::propagate::PropagateError::Integration(
+            satflock::integrate::IntegrateError::StepSizeUnderflow { .. },
+        ) => usage(format!(
+            "{e}: --rtol {:e} and --atol {:e} cannot be met in double precision on this orbit \
+             (suggested: --rtol in [1e-13, 1e-6], --atol in [1e-9, 1e-3] m)",
+            settings.tolerances.relative, settings.tolerances.absolute
+        )),
         other => anyhow::Error::from(other),
     })?;
     // Each file is written whole (a temporary file renamed): no partial file on failure.

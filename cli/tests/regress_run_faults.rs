@@ -525,3 +525,58 @@ fn regress_file_size_limit_fails_the_run_with_every_file_valid() {
         assert!(leftovers.is_empty(), "{leftovers:?}");
     }
 }
+
+/// Issue 25: `propagate --integrator rk4 --step-s 1e-9` over 6000 s accepted 6e12 steps (scenarios bound
+/// satellite-steps at 1e10); a too tight `--rtol` failed with "step size underflow" naming no option.
+#[test]
+fn regress_propagate_runaway_step_and_tight_rtol_name_the_option() {
+    let dir = scratch_dir("propagate-bounds");
+    let propagate = |extra: &[&str]| {
+        satflock()
+            .args(["propagate", "--elements", "6978137,0.001,97.8,0,0,0"])
+            .args(["--duration-s", "6000", "--output-step-s", "60"])
+            .args(extra)
+            .arg("--out")
+            .arg(dir.join("p.csv"))
+            .output()
+            .unwrap()
+    };
+    let o = propagate(&["--integrator", "rk4", "--step-s", "1e-9"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("step_s") && stderr(&o).contains("at most 1e10 RK4 steps"),
+        "{}",
+        stderr(&o)
+    );
+    let o = propagate(&[
+        "--integrator",
+        "dop853",
+        "--rtol",
+        "1e-25",
+        "--atol",
+        "1e-25",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("step size underflow")
+            && stderr(&o).contains("--rtol 1e-25")
+            && stderr(&o).contains("suggested: --rtol in [1e-13, 1e-6]"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.join("p.csv").exists());
+}
+
+/// Issue 25: `--law ""` said ": cannot read the file"; an empty path is named as such.
+#[test]
+fn regress_empty_law_path_is_named() {
+    let dir = scratch_dir("empty-law");
+    let o = run_to(Path::new("free-drift"), &dir.join("out"), &["--law", ""]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--law: the path is empty"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.join("out").exists());
+}

@@ -1595,6 +1595,12 @@ fn events(
             ActionSection::ThreatWarning { threat, active } => EventAction::ThreatWarning {
                 threat: if *threat < config.threats.len() {
                     *threat
+                } else if config.threats.is_empty() {
+                    return Err(c.invalid(
+                        &key("threat"),
+                        "the scenario has no [[threats]] to warn about (add one, or remove this \
+                         threat-warning event)",
+                    ));
                 } else {
                     return Err(c.invalid(
                         &key("threat"),
