@@ -7,14 +7,16 @@
 //! seeds 1–3 passed when this was written); set `SATFLOCK_FUZZ_CASES=N` and `SATFLOCK_FUZZ_SEED=S` for a
 //! longer or different search. Every crash found becomes a named `regress_fuzz_*` case below.
 
-use std::panic::{catch_unwind, AssertUnwindSafe};
+mod common;
+
 use std::path::Path;
 
 use proptest::prelude::*;
 use proptest::sample::Index;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use satflock::run::build_simulation;
 use satflock::scenario::{builtin::BUILTINS, Scenario};
+
+use common::toml_fuzz::{check, flip, mutate, mutation, quietly, runner};
 
 const SOURCE: &str = "fuzz.toml";
 const DEFAULT_CASES: u32 = 4096;
@@ -22,142 +24,6 @@ const DEFAULT_CASES: u32 = 4096;
 const MAX_RUN_WORK: f64 = 2e7;
 /// Steps taken when the run is small enough.
 const STEPS: usize = 3;
-
-/// One change to a scenario.
-#[derive(Clone, Debug)]
-enum Mutation {
-    /// Replace the value at a leaf (chosen by index) by `values()[k]`.
-    Replace(Index, usize),
-    /// Delete the key at a leaf or table (chosen by index).
-    Delete(Index),
-    /// Add an unknown key to a table (chosen by index).
-    AddUnknown(Index),
-}
-
-/// Extreme and wrong-typed values.
-fn values() -> Vec<toml::Value> {
-    use toml::Value::*;
-    vec![
-        Integer(0),
-        Integer(-1),
-        Float(1e300),
-        Float(-1e300),
-        Float(f64::NAN),
-        Float(f64::INFINITY),
-        Float(1e-308),
-        Float(0.0),
-        Integer(i64::MAX),
-        Integer(1_000_000_000),
-        String("x".into()),
-        Boolean(true),
-        Array(vec![]),
-    ]
-}
-
-/// A path to a value inside a document: table keys and array indices.
-#[derive(Clone, Debug)]
-enum Step {
-    Key(String),
-    At(usize),
-}
-
-fn collect(
-    value: &toml::Value,
-    path: &mut Vec<Step>,
-    leaves: &mut Vec<Vec<Step>>,
-    tables: &mut Vec<Vec<Step>>,
-) {
-    match value {
-        toml::Value::Table(t) => {
-            tables.push(path.clone());
-            for (k, v) in t {
-                path.push(Step::Key(k.clone()));
-                leaves.push(path.clone());
-                collect(v, path, leaves, tables);
-                path.pop();
-            }
-        }
-        toml::Value::Array(a) => {
-            for (i, v) in a.iter().enumerate() {
-                path.push(Step::At(i));
-                leaves.push(path.clone());
-                collect(v, path, leaves, tables);
-                path.pop();
-            }
-        }
-        _ => {}
-    }
-}
-
-fn get_mut<'a>(mut v: &'a mut toml::Value, path: &[Step]) -> &'a mut toml::Value {
-    for s in path {
-        v = match s {
-            Step::Key(k) => v.get_mut(k.as_str()).expect("key exists"),
-            Step::At(i) => v.get_mut(*i).expect("index exists"),
-        };
-    }
-    v
-}
-
-/// Applies the structured mutations to the document of `text`.
-fn mutate(text: &str, mutations: &[Mutation]) -> String {
-    let mut doc = toml::Value::Table(text.parse::<toml::Table>().expect("built-in parses"));
-    for m in mutations {
-        let (mut leaves, mut tables) = (Vec::new(), Vec::new());
-        collect(&doc, &mut Vec::new(), &mut leaves, &mut tables);
-        match m {
-            Mutation::Replace(ix, k) => {
-                // Prefer numbers: the pick walks forward from the index to the next numeric leaf.
-                let start = ix.index(leaves.len());
-                let pick = (0..leaves.len())
-                    .map(|d| &leaves[(start + d) % leaves.len()])
-                    .find(|p| {
-                        matches!(
-                            get_mut(&mut doc, p),
-                            toml::Value::Integer(_) | toml::Value::Float(_)
-                        )
-                    })
-                    .unwrap_or(&leaves[start])
-                    .clone();
-                let vals = values();
-                *get_mut(&mut doc, &pick) = vals[k % vals.len()].clone();
-            }
-            Mutation::Delete(ix) => {
-                let path = &leaves[ix.index(leaves.len())];
-                let (last, parent) = path.split_last().expect("non-empty path");
-                match (get_mut(&mut doc, parent), last) {
-                    (toml::Value::Table(t), Step::Key(k)) => {
-                        t.remove(k);
-                    }
-                    (toml::Value::Array(a), Step::At(i)) => {
-                        a.remove(*i);
-                    }
-                    _ => unreachable!("paths follow the document"),
-                }
-            }
-            Mutation::AddUnknown(ix) => {
-                let path = &tables[ix.index(tables.len())];
-                if let toml::Value::Table(t) = get_mut(&mut doc, path) {
-                    t.insert("fuzz_unknown_key".into(), toml::Value::Integer(1));
-                }
-            }
-        }
-    }
-    toml::to_string(&doc).expect("a document serializes")
-}
-
-/// Flips bytes of the text (positions by index, xor by a nonzero byte).
-fn flip(text: &str, flips: &[(Index, u8)]) -> String {
-    let mut bytes = text.as_bytes().to_vec();
-    if bytes.is_empty() {
-        return String::new();
-    }
-    for (ix, x) in flips {
-        let i = ix.index(bytes.len());
-        bytes[i] ^= x.max(&1);
-    }
-    String::from_utf8_lossy(&bytes).into_owned()
-}
 
 /// Loads, validates, builds and (when small) steps one mutant. `Err` describes a broken promise.
 fn exercise(text: &str) -> Result<(), String> {
@@ -193,72 +59,22 @@ fn exercise(text: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Runs `exercise` under `catch_unwind`; a panic or broken promise fails with the mutant printed.
-fn check(label: &str, text: &str) -> Result<(), String> {
-    match catch_unwind(AssertUnwindSafe(|| exercise(text))) {
-        Ok(Ok(())) => Ok(()),
-        Ok(Err(e)) => Err(format!("{label}: {e}\n--- mutant ---\n{text}\n---")),
-        Err(p) => {
-            let msg = p
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_default();
-            Err(format!(
-                "{label}: PANIC: {msg}\n--- mutant ---\n{text}\n---"
-            ))
-        }
-    }
-}
-
-fn mutation() -> impl Strategy<Value = Mutation> {
-    prop_oneof![
-        3 => (any::<Index>(), 0..64usize).prop_map(|(i, k)| Mutation::Replace(i, k)),
-        1 => any::<Index>().prop_map(Mutation::Delete),
-        1 => any::<Index>().prop_map(Mutation::AddUnknown),
-    ]
-}
-
-fn cases() -> u32 {
-    std::env::var("SATFLOCK_FUZZ_CASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(DEFAULT_CASES)
-}
-
 #[test]
 fn fuzz_mutated_builtin_scenarios_never_panic() {
-    // The panic hook would print every caught panic; silence it while fuzzing, restore after.
-    // A fixed seed by default, so CI runs the same mutants every time (a new crash is found when a
-    // developer raises SATFLOCK_FUZZ_CASES or sets SATFLOCK_FUZZ_SEED, then becomes a named regression).
-    let seed: u64 = std::env::var("SATFLOCK_FUZZ_SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(2026);
-    let mut seed_bytes = [0u8; 32];
-    seed_bytes[..8].copy_from_slice(&seed.to_le_bytes());
-    let mut runner = TestRunner::new_with_rng(
-        Config {
-            cases: cases(),
-            failure_persistence: None,
-            ..Config::default()
-        },
-        TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes),
-    );
+    let mut runner = runner(DEFAULT_CASES);
     let strategy = (
         0..BUILTINS.len(),
         prop::collection::vec(mutation(), 0..3),
         prop::collection::vec((any::<Index>(), any::<u8>()), 0..4),
     );
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let result = runner.run(&strategy, |(b, mutations, flips)| {
-        let builtin = &BUILTINS[b];
-        let text = flip(&mutate(builtin.toml, &mutations), &flips);
-        let label = format!("{} {mutations:?} flips {flips:?}", builtin.name);
-        check(&label, &text).map_err(TestCaseError::fail)
+    let result = quietly(|| {
+        runner.run(&strategy, |(b, mutations, flips)| {
+            let builtin = &BUILTINS[b];
+            let text = flip(&mutate(builtin.toml, &mutations), &flips);
+            let label = format!("{} {mutations:?} flips {flips:?}", builtin.name);
+            check(&label, &text, exercise).map_err(TestCaseError::fail)
+        })
     });
-    std::panic::set_hook(hook);
     if let Err(e) = result {
         panic!("{e}");
     }
@@ -268,9 +84,9 @@ fn fuzz_mutated_builtin_scenarios_never_panic() {
 fn fuzz_unmutated_builtins_pass_the_harness() {
     // The harness itself: every built-in loads, builds and steps (or is only built) without a problem.
     for b in BUILTINS {
-        check(b.name, b.toml).unwrap();
+        check(b.name, b.toml, exercise).unwrap();
         let round_trip = mutate(b.toml, &[]);
-        check(b.name, &round_trip).unwrap();
+        check(b.name, &round_trip, exercise).unwrap();
     }
 }
 
@@ -295,7 +111,7 @@ fn regress_fuzz_law_refusal_at_build_names_file_and_key() {
     assert!(err.contains(SOURCE), "{err}");
     assert!(err.contains("key `law`"), "{err}");
     assert!(err.contains("avoidance_radius_m"), "{err}");
-    check("regression", &text).unwrap();
+    check("regression", &text, exercise).unwrap();
 }
 
 /// Found by the fuzzer: a plane angle that makes the j2-distance target amplitude fall to (or below) the
@@ -320,7 +136,7 @@ fn regress_fuzz_j2_distance_target_below_the_barrier_is_refused() {
         .to_string();
     assert!(err.contains(SOURCE), "{err}");
     assert!(err.contains("min_amplitude_m"), "{err}");
-    check("regression", &text).unwrap();
+    check("regression", &text, exercise).unwrap();
 }
 
 /// Found by the fuzzer: with a non-finite navigation position the sensing grid is left empty for that
