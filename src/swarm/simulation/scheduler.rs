@@ -190,7 +190,7 @@ impl Simulation {
                 let advanced =
                     stepper.advance(&system, t0, t1, self.state.as_mut_slice(), config.step_s);
                 // A non-finite command is named before the integration failure it causes.
-                let scratch = scratch.lock().unwrap_or_else(|e| e.into_inner());
+                let scratch = scratch.get_mut().unwrap_or_else(|e| e.into_inner());
                 check_commands(
                     scratch.applied_hill(),
                     &self.satellites.fleet,
