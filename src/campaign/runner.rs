@@ -372,7 +372,7 @@ pub fn check_record(campaign: &Campaign, out: &Path, record: &RunRecord) -> Resu
         ));
     }
     let summary_path = dir.join("summary.json");
-    let summary = std::fs::read_to_string(&summary_path)
+    let summary = crate::input_file::read_document(&summary_path)
         .ok()
         .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok());
     let Some(summary) = summary else {
@@ -455,7 +455,7 @@ pub fn applied_parameters(
     dir: &Path,
 ) -> Result<Option<BTreeMap<String, serde_json::Value>>, String> {
     let path = dir.join("scenario.toml");
-    let text = match std::fs::read_to_string(&path) {
+    let text = match crate::input_file::read_document(&path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
         Err(e) => return Err(format!("{}: {e}", path.display())),
         Ok(text) => text,
