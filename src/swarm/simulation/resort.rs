@@ -146,6 +146,7 @@ mod tests {
                  [reference]\naltitude_m = 600e3\ninclination_deg = 98.0\n{extra}\n\
                  [control]\nmode = \"sampled\"\nperiod_s = 0.05\n\
                  [satellites]\ncount = 400\nmass_kg = 100.0\nradius_m = 0.5\n\
+                 allow_start_in_obstacle = true\n\
                  max_accel_mps2 = 0.05\n\
                  initial = {{ distribution = \"sphere\", radius_m = 300.0 }}\n\
                  [sensing]\nrange_m = 60.0\nposition_noise_m = 0.01\nvelocity_noise_mps = 1e-4\n\
