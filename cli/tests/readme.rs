@@ -1,5 +1,6 @@
-//! The README's command-line tour as a newcomer types it: the binary is explained before the text names
-//! a bare `satflock`, the files its commands read are shipped, and a step runs the file it creates.
+//! The front door as a newcomer meets it: the README and docs explain the binary before they name
+//! a bare `satflock`, the tour reads shipped files and runs what it writes, and `satflock scenarios`
+//! gives every built-in its own description.
 
 use std::path::Path;
 
@@ -105,4 +106,22 @@ fn regress_every_docs_page_that_types_satflock_says_how_to_get_it() {
             path.display()
         );
     }
+}
+
+#[test]
+fn regress_every_builtin_has_its_own_line_in_satflock_scenarios() {
+    let o = satflock().arg("scenarios").output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let mut seen = std::collections::BTreeMap::new();
+    for line in text.lines().filter(|l| !l.trim().is_empty()) {
+        let Some((name, description)) = line.split_once(' ') else {
+            continue;
+        };
+        let description = description.trim();
+        if let Some(other) = seen.insert(description.to_string(), name.to_string()) {
+            panic!("{name} and {other} share the description `{description}`");
+        }
+    }
+    assert!(seen.len() > 30, "{text}");
 }
