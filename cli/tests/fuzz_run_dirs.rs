@@ -14,7 +14,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{forge_parquet_footer, satflock, scratch_dir, small_run, stderr};
+use common::{copy_run, forge_parquet_footer, satflock, scratch_dir, small_run, stderr};
 
 const DEFAULT_CASES: u64 = 1000;
 
@@ -206,18 +206,6 @@ fn mutate_parquet(path: &Path, rng: &mut Rng) -> String {
     let chunk = *rng.pick(&[None, Some(1), Some(1 << 40)]);
     std::fs::write(path, forge_parquet_footer(path, rows, chunk)).unwrap();
     format!("footer forged: {rows} rows, chunk bytes {chunk:?}")
-}
-
-/// A copy of the run directory `from` as `to` (files only).
-fn copy_run(from: &Path, to: &Path) {
-    let _ = std::fs::remove_dir_all(to);
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        if entry.path().is_file() {
-            std::fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
-        }
-    }
 }
 
 /// One mutant: a copy of `base` with one file changed, read by every reader. Returns the failures.

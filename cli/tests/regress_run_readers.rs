@@ -6,11 +6,11 @@
 //! writes over the run it reads.
 
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
 
 mod common;
-use common::{forge_parquet_footer, satflock, scratch_dir, small_run, stderr};
+use common::{copy_run, forge_parquet_footer, satflock, scratch_dir, small_run, stderr};
 
 /// The five run-directory readers on `run` (outputs into `out`); `characterize` only when `with_file`
 /// (it reads the trajectory file alone, not the run directory).
@@ -50,19 +50,6 @@ fn all_refuse(run: &Path, out: &Path, with_file: bool, words: &[&str]) {
             assert!(err.contains(w), "{args:?}: no `{w}` in {err}");
         }
     }
-}
-
-/// A copy of the run directory `from` as `to`.
-fn copy_run(from: &Path, to: &Path) -> PathBuf {
-    let _ = std::fs::remove_dir_all(to);
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        if entry.path().is_file() {
-            std::fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
-        }
-    }
-    to.to_path_buf()
 }
 
 /// `trajectory.csv` with its data line `line` (from 1, after the header) changed by `edit` on its cells.

@@ -117,3 +117,16 @@ detection_range_m = 100.0
     assert!(o.status.success(), "{}", stderr(&o));
     out
 }
+
+/// A copy of the run directory `from` as `to` (its files, not subfolders), replacing `to`.
+pub fn copy_run(from: &std::path::Path, to: &std::path::Path) -> PathBuf {
+    let _ = std::fs::remove_dir_all(to);
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        if entry.path().is_file() {
+            std::fs::copy(entry.path(), to.join(entry.file_name())).unwrap();
+        }
+    }
+    to.to_path_buf()
+}
