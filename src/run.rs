@@ -76,7 +76,7 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
         SimError::OriginMember { .. } => "reference.origin_member",
         SimError::EventOutsideRun { .. } | SimError::EventTarget { .. } => "events",
         SimError::ControlPeriodTooLong { .. } => "control.period_s",
-        SimError::StepTooLong { .. } => "dynamics.step_s",
+        SimError::StepTooLong { .. } | SimError::AdaptiveStepTooLong { .. } => "dynamics.step_s",
         SimError::CommandKindMismatch { .. } => "dynamics.model",
         SimError::ProcessNoise { .. } => "dynamics",
         _ => return RunError::Simulation(e),

@@ -455,6 +455,63 @@ fn val_stiff_gain_with_long_period_is_refused_with_a_reason() {
     }
 }
 
+/// Under continuous control an adaptive integrator is explicit too: a law whose fastest rate k puts
+/// the longest step beyond the method's stability interval (DOP853: h k < 6.39, from its tableau) would
+/// have every step cut to that limit by the error control, and the run crawl. The step is refused
+/// unless it lies within half the interval; within it the run goes.
+#[test]
+fn val_adaptive_step_beyond_the_stability_interval_is_refused() {
+    let initial = [state([10.0, 0.0, 0.0], [0.0; 3])];
+    let adaptive = |step_s: f64| SimulationConfig {
+        integrator: IntegratorMethod::Dop853,
+        step_s,
+        ..config(
+            DynamicsModel::Hcw(Hcw::new(n())),
+            ControlTiming::Continuous,
+            20.0,
+        )
+    };
+    // hold(1e-2, 1.0): fastest rate ~0.99 1/s, so DOP853 needs h < 6.39 / 0.99 = 6.4 s (accepted:
+    // h < 3.2 s).
+    match Simulation::new(
+        adaptive(10.0),
+        &satellites(&initial),
+        hold(1e-2, 1.0),
+        vec![],
+    ) {
+        Err(
+            e @ SimError::AdaptiveStepTooLong {
+                step_s,
+                limit_s,
+                stability_bound,
+                ..
+            },
+        ) => {
+            assert_eq!(step_s, 10.0);
+            assert!((stability_bound - 6.3937).abs() < 1e-3, "{stability_bound}");
+            assert!(limit_s > 3.1 && limit_s < 3.3, "limit {limit_s} s");
+            assert!(e.is_setup());
+            assert!(e.to_string().contains("dop853"), "{e}");
+        }
+        Err(other) => panic!("wrong error: {other}"),
+        Ok(_) => panic!("a 10 s DOP853 step on a 1/s law was accepted"),
+    }
+    let mut sim = Simulation::new(
+        adaptive(2.0),
+        &satellites(&initial),
+        hold(1e-2, 1.0),
+        vec![],
+    )
+    .expect("a 2 s step is within the interval");
+    sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
+    // The same 10 s step in sampled control is the zero-order hold's business, not the integrator's.
+    let sampled = SimulationConfig {
+        control: ControlTiming::Sampled { period_s: 0.5 },
+        ..adaptive(10.0)
+    };
+    assert!(Simulation::new(sampled, &satellites(&initial), hold(1e-2, 1.0), vec![]).is_ok());
+}
+
 #[test]
 fn val_same_seed_same_result_on_any_thread_count() {
     // 600 satellites with neighbour interactions (a law that counts neighbours), navigation noise and

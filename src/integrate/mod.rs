@@ -43,7 +43,7 @@ pub use fused::{
 pub use rk4::Rk4;
 pub use stages::{CHUNK_LEN, PARALLEL_MIN_LEN};
 pub use stepper::Stepper;
-pub use tableau::{ButcherTableau, Dop853, Rkf78};
+pub use tableau::{real_stability_bound, stability_function, ButcherTableau, Dop853, Rkf78};
 
 use std::fmt;
 use std::str::FromStr;
@@ -164,6 +164,16 @@ impl IntegratorMethod {
             Self::Rk4 => Self::NAMES[0],
             Self::Rk78 => Self::NAMES[1],
             Self::Dop853 => Self::NAMES[2],
+        }
+    }
+
+    /// An adaptive method's stability interval on the negative real axis (`h |λ|`, from its tableau:
+    /// [`tableau::real_stability_bound`]); `None` for the fixed-step RK4, whose step the caller chooses.
+    pub fn adaptive_stability_bound(self) -> Option<f64> {
+        match self {
+            Self::Rk4 => None,
+            Self::Rk78 => Some(tableau::real_stability_bound::<Rkf78>()),
+            Self::Dop853 => Some(tableau::real_stability_bound::<Dop853>()),
         }
     }
 }

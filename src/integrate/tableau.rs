@@ -352,3 +352,98 @@ impl ButcherTableau for Dop853 {
         DOP853_B[11] - DOP853_BHH[2],
     ]);
 }
+
+/// The stability function of the method's propagated solution on the test equation `y' = λ y` at a
+/// real `z = h λ`: stages `Y_i = 1 + z Σ_{j<i} a_ij Y_j`, `R(z) = 1 + z Σ_i b_i Y_i` (explicit, so
+/// `R` is the polynomial `1 + z bᵀ (I − z A)⁻¹ 𝟙`).
+pub fn stability_function<T: ButcherTableau>(z: f64) -> f64 {
+    let mut stages = [0.0; 16];
+    assert!(T::STAGES <= stages.len(), "at most 16 stages");
+    for i in 0..T::STAGES {
+        let coupling: f64 = T::A[i].iter().zip(&stages).map(|(a, y)| a * y).sum();
+        stages[i] = 1.0 + z * coupling;
+    }
+    1.0 + z * T::B.iter().zip(&stages).map(|(b, y)| b * y).sum::<f64>()
+}
+
+/// How far the method is stable along the negative real axis: the smallest `h |λ|` at which
+/// `|R(−h |λ|)|` ([`stability_function`]) exceeds 1, found by a scan in steps of 1e-3 and refined by
+/// bisection to 1e-9. An explicit method on a closed loop of rate `k` \[1/s\] needs `h k` below it,
+/// whatever its error control asks.
+pub fn real_stability_bound<T: ButcherTableau>() -> f64 {
+    let unstable = |x: f64| stability_function::<T>(-x).abs() > 1.0;
+    let mut x = 0.0;
+    while !unstable(x + 1e-3) {
+        x += 1e-3;
+    }
+    let (mut stable, mut beyond) = (x, x + 1e-3);
+    while beyond - stable > 1e-9 {
+        let mid = 0.5 * (stable + beyond);
+        if unstable(mid) {
+            beyond = mid;
+        } else {
+            stable = mid;
+        }
+    }
+    stable
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Classical RK4 as a tableau, only to check the stability computations against RK4's known
+    /// polynomial and interval.
+    struct ClassicalRk4;
+
+    impl ButcherTableau for ClassicalRk4 {
+        const STAGES: usize = 4;
+        const ORDER: u8 = 4;
+        const EMBEDDED_ORDER: u8 = 3;
+        const C: &'static [f64] = &[0.0, 0.5, 0.5, 1.0];
+        const A: &'static [&'static [f64]] = &[&[], &[0.5], &[0.0, 0.5], &[0.0, 0.0, 1.0]];
+        const B: &'static [f64] = &[1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
+        const B_ERROR: &'static [f64] = &[0.0; 4];
+    }
+
+    #[test]
+    fn stability_function_is_the_exponential_to_the_methods_order() {
+        // RK4: R(z) = 1 + z + z^2/2 + z^3/6 + z^4/24 exactly.
+        for z in [-2.5, -1.0, -0.3, 0.7] {
+            let want = 1.0 + z + z * z / 2.0 + z * z * z / 6.0 + z * z * z * z / 24.0;
+            assert!((stability_function::<ClassicalRk4>(z) - want).abs() < 1e-14);
+        }
+        // The eighth-order pairs: R(z) - e^z = O(z^9); at z = -0.05 that is ~ 0.05^9 / 9! = 5e-18,
+        // below rounding: |R - e^z| < 1e-15. A wrong coefficient in A or B breaks an order condition
+        // and shows at 1e-12 or more.
+        for z in [-0.05, 0.05] {
+            assert!((stability_function::<Dop853>(z) - z.exp()).abs() < 1e-15);
+            assert!((stability_function::<Rkf78>(z) - z.exp()).abs() < 1e-15);
+        }
+    }
+
+    /// Stable at 101 points from 0 to `bound`, unstable just beyond.
+    fn check_interval<T: ButcherTableau>(bound: f64) {
+        assert!(
+            (0..=100).all(|k| stability_function::<T>(-(k as f64) * bound / 100.0).abs() <= 1.0)
+        );
+        assert!(stability_function::<T>(-(bound + 1e-6)).abs() > 1.0);
+    }
+
+    #[test]
+    fn real_stability_bounds() {
+        // RK4's interval ends at the real root of |1 + z + z^2/2 + z^3/6 + z^4/24| = 1 below zero,
+        // -2.785293563405282 (Hairer & Wanner, Solving ODEs II, section IV.2).
+        let rk4 = real_stability_bound::<ClassicalRk4>();
+        assert!((rk4 - 2.785_293_563_405_282).abs() < 1e-8, "{rk4}");
+        check_interval::<ClassicalRk4>(rk4);
+        let dop = real_stability_bound::<Dop853>();
+        let rkf = real_stability_bound::<Rkf78>();
+        check_interval::<Dop853>(dop);
+        check_interval::<Rkf78>(rkf);
+        // Eight-order methods with 12 and 13 stages reach further than RK4 along the axis.
+        assert!(dop > rk4 && dop < 10.0, "{dop}");
+        assert!(rkf > rk4 && rkf < 10.0, "{rkf}");
+        eprintln!("real stability bounds: RK4 {rk4:.6}, RKF7(8) {rkf:.6}, DOP853 {dop:.6}");
+    }
+}

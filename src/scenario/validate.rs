@@ -132,7 +132,9 @@ impl Prepared {
         let key = match check_law_fits(&law, &self.config, min_mass_kg) {
             Err(SimError::CommandKindMismatch { .. }) => "dynamics.model",
             Err(SimError::ControlPeriodTooLong { .. }) => "control.period_s",
-            Err(SimError::StepTooLong { .. }) => "dynamics.step_s",
+            Err(SimError::StepTooLong { .. } | SimError::AdaptiveStepTooLong { .. }) => {
+                "dynamics.step_s"
+            }
             _ => "law",
         };
         self.law = check_law(
@@ -692,6 +694,7 @@ fn check_law(
         let hint = match e {
             SimError::ControlPeriodTooLong { .. } => "; shorten control.period_s or soften the law",
             SimError::StepTooLong { .. } => "; shorten dynamics.step_s or soften the law",
+            SimError::AdaptiveStepTooLong { .. } => "",
             SimError::CommandKindMismatch { .. } => "; choose another dynamics.model or law",
             _ => "",
         };

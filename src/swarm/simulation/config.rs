@@ -255,6 +255,30 @@ pub enum SimError {
         /// The law's fastest rate \[1/s\].
         rate_per_s: f64,
     },
+    /// The longest adaptive step is too long for the law's fastest closed-loop rate under continuous
+    /// control: the explicit adaptive integrator would cut every step to its stability limit, whatever
+    /// its error control, and crawl.
+    #[error(
+        "integration step {step_s} s (the longest {integrator} step) is too long for law `{law}`, whose \
+         fastest closed-loop rate is {rate_per_s:.4} 1/s under continuous control: {integrator} is \
+         stable only for step < {stability_bound:.3} / rate = {:.4} s and would cut every step to that \
+         (accepted: step < {limit_s:.4} s, half of it); shorten dynamics.step_s, use sampled control or \
+         soften the law", 2.0 * limit_s
+    )]
+    AdaptiveStepTooLong {
+        /// The law.
+        law: &'static str,
+        /// The integrator's name.
+        integrator: &'static str,
+        /// The longest adaptive step \[s\].
+        step_s: f64,
+        /// The longest accepted step \[s\].
+        limit_s: f64,
+        /// The law's fastest rate \[1/s\].
+        rate_per_s: f64,
+        /// The integrator's stability interval on the negative real axis (`h |λ|`).
+        stability_bound: f64,
+    },
     /// The law's command kind does not fit the dynamics (velocity commands need the kinematic model,
     /// acceleration commands a dynamic one).
     #[error("law `{law}` commands {command:?}, which the `{dynamics}` dynamics cannot follow")]
@@ -349,6 +373,7 @@ impl SimError {
                 | SimError::EventTarget { .. }
                 | SimError::ControlPeriodTooLong { .. }
                 | SimError::StepTooLong { .. }
+                | SimError::AdaptiveStepTooLong { .. }
                 | SimError::CommandKindMismatch { .. }
                 | SimError::ProcessNoise { .. }
                 | SimError::ForcesEarth { .. }
@@ -358,7 +383,9 @@ impl SimError {
 
 /// Refuses steps and control periods that cannot resolve the law's fastest closed-loop rate k (for the
 /// lightest satellite): RK4 is stable for h·k ≤ 2.78 and a zero-order hold for T·k < 2 (first-order
-/// damping). A margin of two on both keeps the run accurate, not merely bounded. Also refuses a command
+/// damping); under continuous control an adaptive method's longest step must lie within its own
+/// stability interval ([`IntegratorMethod::adaptive_stability_bound`]), or it cuts every step to it
+/// and crawls. A margin of two on each keeps the run accurate, not merely bounded. Also refuses a command
 /// kind the dynamics cannot follow.
 pub fn check_law_fits(
     law: &Law,
@@ -394,6 +421,21 @@ pub fn check_law_fits(
             limit_s: 1.4 / rate,
             rate_per_s: rate,
         });
+    }
+    if let (Some(bound), ControlTiming::Continuous) =
+        (config.integrator.adaptive_stability_bound(), config.control)
+    {
+        let limit_s = 0.5 * bound / rate;
+        if config.step_s >= limit_s {
+            return Err(SimError::AdaptiveStepTooLong {
+                law: law.name(),
+                integrator: config.integrator.name(),
+                step_s: config.step_s,
+                limit_s,
+                rate_per_s: rate,
+                stability_bound: bound,
+            });
+        }
     }
     Ok(())
 }
