@@ -39,9 +39,15 @@ pub fn at(epoch: Epoch, t_s: f64) -> Epoch {
     epoch.to_time_scale(TimeScale::TAI) + Duration::from_seconds(t_s)
 }
 
-/// An instant as ISO 8601 UTC with microseconds and no zone letter, as CCSDS OEM and most tools print it:
-/// `2026-03-20T12:00:00.000000`.
+/// An instant as ISO 8601 UTC with microseconds and the zone letter: `2026-03-20T12:00:00.000000Z`
+/// (`summary.json`, the tables' `time_utc`, Parquet metadata, CZML, the report).
 pub fn utc_iso(instant: Epoch) -> String {
+    format!("{}Z", ccsds_utc(instant))
+}
+
+/// An instant as CCSDS time-code text, ISO 8601 with microseconds and no zone letter (the OEM's
+/// `TIME_SYSTEM = UTC` line names the scale): `2026-03-20T12:00:00.000000`.
+pub fn ccsds_utc(instant: Epoch) -> String {
     let (y, mo, d, h, mi, s, ns) = instant.to_gregorian_utc();
     // Round to the microsecond without carrying into the seconds (a 999 999 500 ns remainder prints as
     // .999999: the printed value is a truncation below the microsecond, never a later instant).
@@ -70,9 +76,11 @@ mod tests {
     #[test]
     fn parses_and_prints_utc() {
         let e = parse_epoch_utc("2026-03-20T12:00:00Z").unwrap();
-        assert_eq!(utc_iso(e), "2026-03-20T12:00:00.000000");
-        assert_eq!(utc_iso(at(e, 90.5)), "2026-03-20T12:01:30.500000");
-        assert_eq!(utc_iso(at(e, 86_400.0)), "2026-03-21T12:00:00.000000");
+        assert_eq!(utc_iso(e), "2026-03-20T12:00:00.000000Z");
+        assert_eq!(ccsds_utc(e), "2026-03-20T12:00:00.000000");
+        assert_eq!(utc_iso(at(e, 90.5)), "2026-03-20T12:01:30.500000Z");
+        assert_eq!(utc_iso(at(e, 86_400.0)), "2026-03-21T12:00:00.000000Z");
+        assert_eq!(parse_epoch_utc(&utc_iso(at(e, 90.5))).unwrap(), at(e, 90.5));
         assert!(parse_epoch_utc("yesterday")
             .unwrap_err()
             .contains("ISO 8601"));
@@ -93,7 +101,7 @@ mod tests {
     #[test]
     fn a_leap_second_is_a_repeated_clock_not_a_lost_second() {
         let before = parse_epoch_utc("2016-12-31T23:59:59Z").unwrap();
-        assert_eq!(utc_iso(at(before, 2.0)), "2017-01-01T00:00:00.000000");
+        assert_eq!(utc_iso(at(before, 2.0)), "2017-01-01T00:00:00.000000Z");
         assert_eq!(tai_minus_utc_s(at(before, 3.0)), 37.0);
     }
 }

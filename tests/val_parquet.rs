@@ -230,7 +230,7 @@ fn val_parquet_equals_csv_threats_and_law_outputs() {
     assert_eq!(value("seed").as_deref(), Some("1"));
     assert_eq!(
         value("epoch_utc").as_deref(),
-        Some("2000-01-01T12:00:00.000000")
+        Some("2000-01-01T12:00:00.000000Z")
     );
     assert_eq!(
         value("satflock_version").as_deref(),

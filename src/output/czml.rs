@@ -21,7 +21,7 @@ use serde_json::{json, Value};
 use super::export::{write_whole, ExportError, InertialTrack};
 use super::frames;
 use super::run_data::RunData;
-use crate::time::{self, Epoch};
+use crate::time;
 
 /// The CZML file a run directory holds (`satflock export czml`).
 pub const RUN_FILE: &str = "swarm.czml";
@@ -117,11 +117,6 @@ impl CzmlDecimation {
     }
 }
 
-/// An instant as CZML's ISO 8601 UTC (`2000-01-01T12:00:00.000000Z`).
-fn iso(instant: Epoch) -> String {
-    format!("{}Z", time::utc_iso(instant))
-}
-
 /// The CZML packets of a run read back by [`RunData::read`], from its `trajectory.csv` inertial
 /// columns, and what they kept.
 pub fn czml_packets(
@@ -151,7 +146,7 @@ pub fn czml_packets(
     let paths = options
         .paths
         .unwrap_or(chosen.len() <= PATHS_MAX_SATELLITES);
-    let at = |t_s: f64| iso(time::at(run.epoch, t_s));
+    let at = |t_s: f64| time::utc_iso(time::at(run.epoch, t_s));
     let scenario = run
         .summary
         .get("scenario")
@@ -186,7 +181,7 @@ pub fn czml_packets(
             "description": format!("Satellite {} of scenario `{scenario}`", track.id),
             "availability": format!("{}/{}", at(span.0), at(span.1)),
             "position": {
-                "epoch": iso(run.epoch),
+                "epoch": time::utc_iso(run.epoch),
                 "referenceFrame": frames::CZML_INERTIAL_FRAME,
                 "interpolationAlgorithm": "LAGRANGE",
                 "interpolationDegree": INTERPOLATION_DEGREE.min(samples.saturating_sub(1)).max(1),

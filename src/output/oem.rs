@@ -12,7 +12,7 @@
 //! Units and precision: positions in km printed to [`POSITION_DECIMALS`] decimals (1e-9 km = 1 µm),
 //! velocities in km/s to [`VELOCITY_DECIMALS`] decimals (1e-12 km/s = 1 nm/s): finer than the
 //! integrator's error, so relative positions of close satellites can be taken from the file. Epochs are
-//! ISO 8601 UTC with microseconds ([`time::utc_iso`]).
+//! ISO 8601 UTC with microseconds ([`time::ccsds_utc`]).
 //!
 //! `CREATION_DATE` is the time of writing, or `SOURCE_DATE_EPOCH` (seconds since 1970-01-01T00:00:00Z,
 //! the reproducible-builds convention) when that variable is set, so tests and archives can compare
@@ -149,9 +149,13 @@ impl OemMessage<'_> {
         for c in &self.header_comments {
             push_comment(&mut out, c);
         }
-        let _ = writeln!(out, "CREATION_DATE = {}", time::utc_iso(self.creation_date));
+        let _ = writeln!(
+            out,
+            "CREATION_DATE = {}",
+            time::ccsds_utc(self.creation_date)
+        );
         let _ = writeln!(out, "ORIGINATOR = {ORIGINATOR}");
-        let at = |t_s: f64| time::utc_iso(time::at(self.epoch, t_s));
+        let at = |t_s: f64| time::ccsds_utc(time::at(self.epoch, t_s));
         for object in &self.objects {
             let track = object.track;
             let (Some(&first), Some(&last)) = (track.t_s.first(), track.t_s.last()) else {

@@ -35,7 +35,9 @@ def test_every_state_matches_the_trajectory_in_km(satflock_bin, run_dir, monkeyp
     monkeypatch.setenv("SOURCE_DATE_EPOCH", SOURCE_DATE_EPOCH)
     run_satflock(satflock_bin, "export", "oem", str(run_dir), "--per-satellite")
     summary = json.loads((run_dir / "summary.json").read_text())
-    epoch = datetime.datetime.fromisoformat(summary["epoch_utc"])
+    # summary.json's epoch carries the zone letter (aware); the OEM's epochs are UTC without it (naive).
+    assert summary["epoch_utc"].endswith("Z")
+    epoch = datetime.datetime.fromisoformat(summary["epoch_utc"].removesuffix("Z"))
     rows = trajectory_by_satellite(run_dir)
     files = sorted((run_dir / "oem").glob("sat-*.oem"))
     assert len(files) == len(rows) == summary["n_satellites"]

@@ -281,8 +281,8 @@ impl<'a> RunContext<'a> {
     /// The epoch of t = 0, for captions.
     pub fn epoch_note(&self) -> String {
         format!(
-            "t = 0 at {} UTC",
-            satflock::time::utc_iso(self.run.epoch).trim_end_matches(".000000")
+            "t = 0 at {}",
+            satflock::time::utc_iso(self.run.epoch).replace(".000000Z", "Z")
         )
     }
 }
