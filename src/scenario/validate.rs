@@ -1448,8 +1448,9 @@ fn to_hill(frame: ListFrame, s: &[f64; 6]) -> RelativeStateHill {
     }
 }
 
-/// Resolves the `path` of a CSV of initial states: it must name a regular file inside the scenario's
-/// folder (after following `..` and symbolic links) of at most [`MAX_STATES_CSV_BYTES`].
+/// Resolves the `path` of a CSV of initial states: it must name a file inside the scenario's folder
+/// (after following `..` and symbolic links); [`read_states_csv`] opens it through the bounded reader
+/// (a regular file of at most [`MAX_STATES_CSV_BYTES`]).
 fn resolve_states_csv(base_dir: &Path, path: &str) -> Result<std::path::PathBuf, String> {
     let base = base_dir
         .canonicalize()
@@ -1464,20 +1465,6 @@ fn resolve_states_csv(base_dir: &Path, path: &str) -> Result<std::path::PathBuf,
              folder or below it)",
             full.display(),
             base.display()
-        ));
-    }
-    let meta = std::fs::metadata(&full).map_err(|e| format!("{}: {e}", full.display()))?;
-    if !meta.is_file() {
-        return Err(format!(
-            "{} is not a regular file (allowed: a regular CSV file)",
-            full.display()
-        ));
-    }
-    if meta.len() > MAX_STATES_CSV_BYTES {
-        return Err(format!(
-            "{} has {} bytes (allowed: at most {MAX_STATES_CSV_BYTES} bytes, 10^7 rows)",
-            full.display(),
-            meta.len()
         ));
     }
     Ok(full)
