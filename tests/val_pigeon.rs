@@ -563,7 +563,7 @@ fn val_law_keys_parse_and_bad_values_and_setups_are_refused() {
         switching = true
         dominant = [0, 1, 2]
         target_hill_m = [0.0, 0.0, 0.0]
-        egalitarian_range_m = 120.0
+        egalitarian_range_m = 130.0
         hierarchical_range_m = 150.0
         link_delay_m = 10.0
         min_separation_m = 20.0
@@ -600,7 +600,7 @@ fn val_law_keys_parse_and_bad_values_and_setups_are_refused() {
         assert!(e.contains(key), "{e} should name {key}");
     };
     bad(&|p| p.hierarchical_range_m = 100.0, "hierarchical_range_m");
-    bad(&|p| p.link_delay_m = 120.0, "link_delay_m");
+    bad(&|p| p.link_delay_m = 130.0, "link_delay_m");
     bad(&|p| p.desired_separation_m = 20.0, "desired_separation_m");
     bad(&|p| p.desired_separation_m = 130.0, "desired_separation_m");
     bad(&|p| p.obstacle_detection_m = 10.0, "obstacle_detection_m");

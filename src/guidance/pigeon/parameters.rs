@@ -26,7 +26,10 @@ pub struct PigeonParameters {
     /// (z, y) components.
     #[serde(default)]
     pub target_hill_m: [f64; 3],
-    /// R_c^1: egalitarian link range \[m\] (default 120); finite, > 0.
+    /// R_c^1: egalitarian link range \[m\] (default 130; 120 until 2026-12-01, changed after the results
+    /// were seen because at 120 m the initial link graph of the paper's Table I was not connected:
+    /// satellite 0's nearest neighbour is 115.3 m away, beyond R_c^1 − R_L^1 = 110 m, so it flew off
+    /// alone; see `docs/methods/pigeon.md`); finite, > 0.
     #[serde(default = "default_egalitarian_range")]
     pub egalitarian_range_m: f64,
     /// R_c^2: hierarchical link range \[m\] (default 150); finite, >= R_c^1, and <= the scenario's
@@ -94,7 +97,7 @@ fn default_dominant() -> Vec<usize> {
     vec![0, 1, 2]
 }
 fn default_egalitarian_range() -> f64 {
-    120.0
+    130.0
 }
 fn default_hierarchical_range() -> f64 {
     150.0

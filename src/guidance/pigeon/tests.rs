@@ -102,7 +102,11 @@ fn p9_egalitarian_link_appears_at_rc1_minus_rl1_persists_to_rc1_and_drops_beyond
     // R_c^1 = 120 m, R_L^1 = 10 m: link appears at ≤ 110 m, persists while ≤ 120 m. Exact comparisons:
     // the distances are built from a 3-4-5 triangle, so ‖(0.6 d, 0.8 d)‖ = d to the last bit for the
     // values used (checked below).
-    let law = Pigeon::new(PigeonParameters::default()).unwrap();
+    let law = Pigeon::new(PigeonParameters {
+        egalitarian_range_m: 120.0,
+        ..PigeonParameters::default()
+    })
+    .unwrap();
     let script: [(f64, bool); 9] = [
         (110.5, false), // initial set: only within 110 m
         (110.0, true),  // appears exactly at R_c^1 − R_L^1
