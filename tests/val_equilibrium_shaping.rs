@@ -15,7 +15,9 @@
 //! * the dynamic layer in closed loop: holding the nodes on HCW costs exactly 3n²|x| per unit time, and
 //!   the velocity-tracking error decays exactly as e^(−kt) (which only holds if the feed-forward is the
 //!   true material derivative and the viscosity's own-velocity term is resolved as documented);
-//! * the state machine on a scripted warning timeline, and in a simulation driven by warning events.
+//! * the state machine on a scripted warning timeline, and in a simulation driven by warning events;
+//! * the `away` escape on E0 against the closed-form threat track: the threat passes the cluster, while
+//!   under `parallel` a satellite rides about √(K ln(A/V)) ahead of it.
 //!
 //! All in the Hill frame (x radial out, y along-track, z orbit normal), SI units.
 
@@ -920,6 +922,8 @@ fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
             Formation::Hexagon,
         ),
         (Strategy::Mix, Escape::PerpCommon, Formation::Hexagon),
+        (Strategy::FixedCentroid, Escape::Away, Formation::Rhombus),
+        (Strategy::MovingCentroid, Escape::Away, Formation::Hexagon),
     ] {
         let mut p = parameters(strategy, formation);
         p.escape = escape;
@@ -1412,7 +1416,7 @@ fn val_escape_directions_follow_their_rules() {
     assert!((a.norm() - 1.0).abs() <= 1e-15 && a.dot(&v_hat).abs() <= 1e-15);
     assert!((c.norm() - 1.0).abs() <= 1e-15 && c.dot(&v_hat).abs() <= 1e-15);
     assert!((a - c).norm() > 1e-3);
-    // Parallel stores v̂_T; perp-radial stores the common direction as its fallback.
+    // Parallel stores v̂_T; perp-radial and away store the common direction as their fallback.
     let settings = |escape| MachineSettings {
         physical_sensing_radius_m: 10.0,
         escape,
@@ -1427,6 +1431,7 @@ fn val_escape_directions_follow_their_rules() {
         v_hat
     );
     assert_eq!(settings(Escape::PerpRadial).escape_direction_hill(&v_t), a);
+    assert_eq!(settings(Escape::Away).escape_direction_hill(&v_t), a);
     // A given direction along v_T is refused when the law starts, naming the key.
     let mut p = parameters(Strategy::MovingCentroid, Formation::Rhombus);
     p.escape = Escape::PerpCommon;
@@ -1599,6 +1604,31 @@ fn val_parameters_parse_with_the_scenario_keys_and_refuse_bad_ones() {
     assert_eq!(m.nodes_hill_m, p.nodes_hill_m);
     // Unknown keys and bad values: refused, naming the key and the allowed range.
     assert!(toml::from_str::<LawConfig>(&format!("{text}\nspeed_mps = 1.0")).is_err());
+    // Every escape rule by its scenario name; an unknown one is refused, listing them all.
+    for (name, escape) in [
+        ("parallel", Escape::Parallel),
+        ("perp-common", Escape::PerpCommon),
+        ("perp-radial", Escape::PerpRadial),
+        ("away", Escape::Away),
+    ] {
+        let table = format!(
+            "name = \"equilibrium-shaping\"\nstrategy = \"fixed-centroid\"\nformation = \"rhombus\"\n\
+             escape = \"{name}\""
+        );
+        let LawConfig::EquilibriumShaping(q) = toml::from_str::<LawConfig>(&table).unwrap() else {
+            panic!("wrong variant")
+        };
+        assert_eq!(q.escape, escape, "{name}");
+    }
+    let err = toml::from_str::<LawConfig>(
+        "name = \"equilibrium-shaping\"\nstrategy = \"mix\"\nformation = \"rhombus\"\n\
+         escape = \"sideways\"",
+    )
+    .unwrap_err()
+    .to_string();
+    for name in ["parallel", "perp-common", "perp-radial", "away"] {
+        assert!(err.contains(name), "{err}");
+    }
     let bad = |edit: &dyn Fn(&mut EquilibriumShapingParameters), key: &str| {
         let mut p = parameters(Strategy::FixedCentroid, Formation::Rhombus);
         edit(&mut p);
@@ -1649,5 +1679,77 @@ fn val_parameters_parse_with_the_scenario_keys_and_refuse_bad_ones() {
     assert!(
         err.contains("6 nodes") && err.contains("4 satellites"),
         "{err}"
+    );
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The `away` escape on E0
+// ------------------------------------------------------------------------------------------------------
+
+/// The built-in E0 run (kinematic, Eq. 1 + the physically sensed threat, 1 m/s threat from +z aimed at
+/// satellite 0's node at 30 s) with `escape` and `duration_s` replaced; every recording.
+fn e0_run(escape: &str, duration_s: f64) -> Collect {
+    use satflock::scenario::{builtin::BUILTINS, Scenario};
+    let builtin = BUILTINS.iter().find(|b| b.name == "es-e0").unwrap();
+    let text = builtin
+        .toml
+        .replace("escape = \"parallel\"", &format!("escape = \"{escape}\""))
+        .replace("duration_s = 40.0", &format!("duration_s = {duration_s:?}"));
+    assert!(text.contains(&format!("escape = \"{escape}\"")));
+    let scenario = Scenario::from_toml(&text, "es-e0.toml", std::path::Path::new(".")).unwrap();
+    let mut sim = satflock::run::build_simulation(&scenario).unwrap();
+    let mut rec = Collect::default();
+    sim.run(&mut rec, &mut |_| {}).unwrap();
+    rec
+}
+
+#[test]
+fn val_away_escape_lets_the_threat_pass_and_parallel_does_not() {
+    // The threat's track is known in closed form: p_T(t) = ξ₀ + (0, 0, 30 s − t) · 1 m/s. "Passed the
+    // cluster" = every satellite above the threat (z_i > z_T) by more than the 10 m physical sensing
+    // radius, so the threat term is off for good. Under `parallel` satellite 0 settles where the threat
+    // term's speed equals the threat's, √(K ln(A/V)) = 9.05 m ahead of it (method page), and the threat
+    // never passes. Measured: `away` 1159.0 m behind at 1200 s, formation error 34.3 mm at 60 s and
+    // 20.4 mm at 1200 s (peak 40.5 mm; the out-of-plane fold relaxes only nonlinearly), closest approach
+    // 8.94 m; `parallel` 9.001 m ahead, closest approach 9.00 m.
+    let duration = 1200.0;
+    let threat_z = |t: f64| 30.0 - t;
+    let mut leads = Vec::new();
+    for escape in ["away", "parallel"] {
+        let rec = e0_run(escape, duration);
+        let last = rec.states.len() - 1;
+        let t_end = rec.times[last];
+        assert_eq!(t_end, duration);
+        let lead = rec.states[last]
+            .iter()
+            .map(|s| s.position_m.z - threat_z(t_end))
+            .fold(f64::INFINITY, f64::min);
+        let error = rec.metric("es_formation_error_m");
+        let at = |t: f64| error[rec.times.iter().position(|s| *s >= t).unwrap()];
+        let miss = rec
+            .monitor_min_threat_m
+            .iter()
+            .flatten()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
+        println!(
+            "E0 {escape}: lowest satellite z − z_T at {t_end} s = {lead:.3} m, formation error at \
+             60 s {:.4} m, at 1200 s {:.4} m, closest approach {miss:.4} m",
+            at(60.0),
+            error[last]
+        );
+        if escape == "away" {
+            assert!(
+                error[last] < at(60.0),
+                "away: the formation error must decrease after the passage"
+            );
+        }
+        leads.push(lead);
+    }
+    assert!(leads[0] > 10.0, "away: the threat must pass ({})", leads[0]);
+    assert!(
+        (-10.0..-8.0).contains(&leads[1]),
+        "parallel: a satellite rides about 9 m ahead ({})",
+        leads[1]
     );
 }

@@ -75,8 +75,9 @@ pub struct Tables {
     /// Avoid coefficients b_ij \[1/s\], row-major N × N, symmetric (empty when the strategy has no
     /// gather/avoid/dock field).
     pub avoid_per_s: Vec<f64>,
-    /// The `perp-common` direction (also the `perp-radial` fallback) for the law's threat as the scenario
-    /// defines it, Hill unit vector (`None` until the law has started, or without such a threat).
+    /// The `perp-common` direction (also the `perp-radial` and `away` fallback) for the law's threat as
+    /// the scenario defines it, Hill unit vector (`None` until the law has started, or without such a
+    /// threat).
     pub common_escape_hill: Option<Vector3<f64>>,
 }
 
@@ -154,6 +155,7 @@ fn escape_rule(escape: Escape, velocity_mps: &Vector3<f64>, common: &Vector3<f64
         }
         Escape::PerpCommon => EscapeRule::Fixed(*common),
         Escape::PerpRadial => EscapeRule::Radial { fallback: *common },
+        Escape::Away => EscapeRule::Away { fallback: *common },
     }
 }
 

@@ -161,6 +161,12 @@ pub enum EscapeRule {
         /// Used on the threat's line.
         fallback: Vector3<f64>,
     },
+    /// `away`: directly away from the threat's current position, â = unit(x − p_T); the `fallback`
+    /// unit vector (Hill frame) when the satellite is within [`DIRECTION_EPSILON_M`] of the threat.
+    Away {
+        /// Used at the threat's position.
+        fallback: Vector3<f64>,
+    },
 }
 
 /// Eq. 3, the threat term A â e^(−d²/K) at own position `position_m` \[m\], with threat position
@@ -168,8 +174,9 @@ pub enum EscapeRule {
 /// `scale_mps` = A \[m/s\], Gaussian width `width_m2` = K = 2 (R_s/3)² \[m²\] and escape rule `escape`.
 ///
 /// The term is a function of y = x − p_T(t) only (for `perp-radial` the projection removes the part along
-/// v_T, which is the only part that changes with time), so ∂v/∂t = −(∂v/∂x) v_T. A zero threat velocity
-/// with `perp-radial` makes the projection the identity (flee straight away from the threat).
+/// v_T, which is the only part that changes with time; for `away` â = unit(y) itself), so
+/// ∂v/∂t = −(∂v/∂x) v_T, with ∂â/∂y = (I − â âᵀ)/‖y‖ for `away`. A zero threat velocity with
+/// `perp-radial` makes the projection the identity (flee straight away from the threat, as `away`).
 pub fn threat(
     position_m: &Vector3<f64>,
     threat_position_m: &Vector3<f64>,
@@ -194,6 +201,11 @@ pub fn threat(
                 None => (*fallback, Matrix3::zeros()),
             }
         }
+        EscapeRule::Away { fallback } => match unit(&y) {
+            // ∂â/∂y = (I − â âᵀ) / ‖y‖.
+            Some((a, r)) => (a, (Matrix3::identity() - a * a.transpose()) / r),
+            None => (*fallback, Matrix3::zeros()),
+        },
     };
     let d_own = scale_mps * (e * d_a_hat + a_hat * grad_e.transpose());
     FieldTerm {
@@ -453,6 +465,7 @@ mod tests {
             (EscapeRule::Fixed(v_t.normalize()), "parallel"),
             (EscapeRule::Fixed(diagonal), "fixed diagonal"),
             (EscapeRule::Radial { fallback: diagonal }, "perp-radial"),
+            (EscapeRule::Away { fallback: diagonal }, "away"),
         ];
         for (rule, what) in rules {
             for (k_m2, t_s) in [(22.22, 0.0), (88.9, 1.7)] {

@@ -62,6 +62,9 @@ pub enum Escape {
     PerpCommon,
     /// Away from the threat's line, perpendicular to v_T (each satellite its own direction).
     PerpRadial,
+    /// Directly away from the threat's current position, â = unit(x − p_T) (each satellite its own
+    /// direction, re-evaluated with the threat's motion; the common perpendicular on the threat).
+    Away,
 }
 
 /// The kinematic-acceleration feed-forward of the tracking controller (paper Eq. 7; how the paper

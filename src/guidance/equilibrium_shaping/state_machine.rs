@@ -65,7 +65,8 @@ pub struct Warning {
     /// K_i = 2 (R_s,i / 3)² \[m²\].
     pub width_m2: f64,
     /// The escape direction chosen at the warning, Hill unit vector: v̂_T (`parallel`), the common
-    /// perpendicular (`perp-common`), or the fallback of `perp-radial` (the common perpendicular).
+    /// perpendicular (`perp-common`), or the fallback of `perp-radial` and `away` (the common
+    /// perpendicular).
     pub escape_direction_hill: Vector3<f64>,
 }
 
@@ -218,7 +219,7 @@ impl MachineSettings {
     pub fn escape_direction_hill(&self, threat_velocity_mps: &Vector3<f64>) -> Vector3<f64> {
         match self.escape {
             Escape::Parallel => unit_or_x(threat_velocity_mps),
-            Escape::PerpCommon | Escape::PerpRadial => common_escape_direction(
+            Escape::PerpCommon | Escape::PerpRadial | Escape::Away => common_escape_direction(
                 threat_velocity_mps,
                 self.escape_direction_hill.as_ref(),
                 self.escape_seed,
