@@ -17,7 +17,9 @@
 //!   true material derivative and the viscosity's own-velocity term is resolved as documented);
 //! * the state machine on a scripted warning timeline, and in a simulation driven by warning events;
 //! * the `away` escape on E0 against the closed-form threat track: the threat passes the cluster, while
-//!   under `parallel` a satellite rides about √(K ln(A/V)) ahead of it.
+//!   under `parallel` a satellite rides about √(K ln(A/V)) ahead of it;
+//! * the linearised Eq. 1 field of the E0 rhombus (central differences): exactly 7 zero eigenvalues
+//!   (6 rigid-body modes and the out-of-plane fold, each checked in the null space), 5 negative.
 //!
 //! All in the Hill frame (x radial out, y along-track, z orbit normal), SI units.
 
@@ -1751,5 +1753,118 @@ fn val_away_escape_lets_the_threat_pass_and_parallel_does_not() {
         (-10.0..-8.0).contains(&leads[1]),
         "parallel: a satellite rides about 9 m ahead ({})",
         leads[1]
+    );
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The linearised Eq. 1 field of the E0 rhombus
+// ------------------------------------------------------------------------------------------------------
+
+#[test]
+fn val_e0_rhombus_linearised_field_has_seven_zero_modes() {
+    // The NOMINAL field of the built-in E0 (moving centroid: Eq. 1 with a_ij from Eq. 4, b = 20 1/s,
+    // c = 10 m², rhombus of side 6 m) depends on the offsets only through their lengths, so its 12 × 12
+    // Jacobian at the nodes (central differences of the law's own field) annuls every rigid motion:
+    // 3 translations and 3 rotations. The rhombus is planar, and folding it about both diagonals
+    // (+z on one diagonal's nodes, −z on the other's) changes every pair distance only at second
+    // order: a seventh zero mode. The other 12 − 7 = 5 modes (in-plane deformations of the rhombus,
+    // which has 2·4 − 3 = 5 in-plane shape coordinates) must be strictly stable. Reference: that
+    // count, and the seven modes themselves in the null space. Measured: λ = −11.808, −11.804, −7.869,
+    // −3.948, −3.935 1/s and seven |λ| ≤ 2.2e-13 1/s (threshold 1e-6 · 11.808); asymmetry 1.3e-10 1/s.
+    use satflock::scenario::builtin::BUILTINS;
+    let builtin = BUILTINS.iter().find(|b| b.name == "es-e0").unwrap();
+    let table: toml::Table = toml::from_str(builtin.toml).unwrap();
+    let law_table = table["law"].clone();
+    let LawConfig::EquilibriumShaping(p) = law_table.try_into::<LawConfig>().unwrap() else {
+        panic!("es-e0 is not an equilibrium-shaping scenario")
+    };
+    assert_eq!(
+        (
+            p.strategy,
+            p.formation,
+            p.side_m,
+            p.pair_b_per_s,
+            p.pair_c_m2
+        ),
+        (
+            Strategy::MovingCentroid,
+            Formation::Rhombus,
+            6.0,
+            20.0,
+            10.0
+        )
+    );
+    assert_eq!(
+        desired::field_of(p.strategy, Mode::Nominal).0,
+        FieldSet::Pair,
+        "E0's NOMINAL field is Eq. 1"
+    );
+    let law = started_law(*p, &[]);
+    let nodes = law.tables().nodes_m.clone();
+    let jac = finite_difference_jacobian(&law, Mode::Nominal);
+    assert_eq!(jac.shape(), (12, 12));
+    // A gradient field: symmetric up to the differences' error (h = 1e-6 m: ≈ 1e-9 of the entries).
+    let scale = jac.amax();
+    let asymmetry = (&jac - jac.transpose()).amax();
+    println!("E0 Jacobian: largest entry {scale:.6} 1/s, asymmetry {asymmetry:.3e} 1/s");
+    assert!(asymmetry <= 1e-8 * scale, "not symmetric: {asymmetry:e}");
+    let symmetric = (&jac + jac.transpose()) * 0.5;
+    let mut eigenvalues: Vec<f64> = symmetric
+        .clone()
+        .symmetric_eigenvalues()
+        .iter()
+        .copied()
+        .collect();
+    eigenvalues.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let largest = eigenvalues.iter().map(|l| l.abs()).fold(0.0, f64::max);
+    let tol = 1e-6 * largest;
+    println!("E0 eigenvalues [1/s]: {eigenvalues:?}");
+    let zero = eigenvalues.iter().filter(|l| l.abs() < tol).count();
+    let negative = eigenvalues.iter().filter(|l| **l <= -tol).count();
+    // The general (unsymmetrised) eigenvalues agree: real, the same count of zeros.
+    let general = jac.complex_eigenvalues();
+    let general_zero = general.iter().filter(|l| l.norm() < tol).count();
+    let largest_imaginary = general.iter().map(|l| l.im.abs()).fold(0.0, f64::max);
+    println!(
+        "E0: {zero} zero (|λ| < {tol:.3e} 1/s), {negative} negative; general eigenvalues: \
+         {general_zero} zero, largest |Im λ| {largest_imaginary:.3e}"
+    );
+    assert_eq!(zero, 7, "zero eigenvalues: {eigenvalues:?}");
+    assert_eq!(negative, 5, "negative eigenvalues: {eigenvalues:?}");
+    assert_eq!(general_zero, 7, "general eigenvalues: {general:?}");
+    // The seven modes: translations, rotations ω × ξ_i about the nodes' centroid (the origin), the
+    // fold. Independent (rank 7), and each annulled.
+    let centroid = nodes.iter().sum::<Vector3<f64>>() / nodes.len() as f64;
+    let stack = |f: &dyn Fn(usize) -> Vector3<f64>| DMatrix::from_fn(12, 1, |r, _| f(r / 3)[r % 3]);
+    let mut modes: Vec<(String, DMatrix<f64>)> = Vec::new();
+    for k in 0..3 {
+        let axis = Vector3::ith(k, 1.0);
+        modes.push((format!("translation {k}"), stack(&|_| axis)));
+        modes.push((
+            format!("rotation {k}"),
+            stack(&|i| axis.cross(&(nodes[i] - centroid))),
+        ));
+    }
+    // Nodes 0, 1 are one diagonal ((∓l√3/2, 0, 0)), nodes 2, 3 the other ((0, ±l/2, 0)).
+    modes.push((
+        "fold".into(),
+        stack(&|i| Vector3::z() * if i < 2 { 1.0 } else { -1.0 }),
+    ));
+    for (name, m) in &modes {
+        let residual = (&jac * m).norm() / m.norm();
+        println!("E0 mode {name}: ‖J m‖/‖m‖ = {residual:.3e} 1/s");
+        assert!(residual < tol, "{name}: {residual:e} of {largest}");
+    }
+    let basis = DMatrix::from_columns(
+        &modes
+            .iter()
+            .map(|(_, m)| m.column(0).into_owned())
+            .collect::<Vec<_>>(),
+    );
+    let singular = basis.singular_values();
+    let smallest = singular.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert!(
+        smallest > 1e-3 * singular.max(),
+        "modes not independent: {singular}"
     );
 }
