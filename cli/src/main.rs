@@ -181,7 +181,8 @@ enum Command {
     Campaign(campaign::CampaignArgs),
     /// Run a full-length reproduction (papers, analytic references) and print reported vs reproduced
     /// as a Markdown table. Targets: `core`, `gao`, `pigeon`, `scatter`, `takahashi`, `takahashi-split`
-    /// (see `satflock validate --list`).
+    /// (see `satflock validate --list`). A paper's outcomes, values and criteria are the data files of
+    /// `validation/`; `--json` gives the measurement, which `--from` renders again without running.
     Validate {
         /// Target name: `core`, `gao`, `pigeon`, `scatter`, `takahashi` or `takahashi-split`.
         #[arg(required_unless_present = "list")]
@@ -189,9 +190,15 @@ enum Command {
         /// List the targets.
         #[arg(long)]
         list: bool,
-        /// Print JSON instead of Markdown.
-        #[arg(long)]
+        /// Print JSON (the measurement, e.g. for `validation/measured/TARGET.json`) instead of Markdown.
+        #[arg(long, conflicts_with = "markdown")]
         json: bool,
+        /// Print Markdown (the default).
+        #[arg(long)]
+        markdown: bool,
+        /// Render a saved measurement (a `--json` output) with today's data files instead of running.
+        #[arg(long, value_name = "FILE")]
+        from: Option<PathBuf>,
     },
 }
 
@@ -456,7 +463,13 @@ fn main() -> ExitCode {
         Command::Propagate(args) => propagate_command(&args),
         Command::Budget(args) => budget::budget_command(&args),
         Command::Export { format } => export::export_command(format),
-        Command::Validate { target, list, json } => validate_command(target.as_deref(), list, json),
+        Command::Validate {
+            target,
+            list,
+            json,
+            markdown: _,
+            from,
+        } => validate_command(target.as_deref(), list, json, from.as_deref()),
         Command::Campaign(args) => campaign::campaign_command(&args),
         Command::Bench(args) => bench::bench_command(&args),
     };
@@ -521,12 +534,13 @@ fn run(
     format: Option<OutputFormat>,
     plots: bool,
 ) -> Result<()> {
-    // Validate before anything is created on disk.
-    let duration_s = scenario
-        .prepare()
-        .map_err(|e| usage(e.to_string()))?
-        .config
-        .duration_s;
+    // Validate before anything is created on disk; say at once what the load found.
+    let prepared = scenario.prepare().map_err(|e| usage(e.to_string()))?;
+    let duration_s = prepared.config.duration_s;
+    let load_warnings = prepared.warnings;
+    for warning in &load_warnings {
+        eprintln!("warning: {warning}");
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
@@ -572,7 +586,12 @@ fn run(
     }
     match outcome {
         Ok(summary) => {
-            for warning in &summary.warnings {
+            // The load-time warnings lead the summary's; they were printed at load.
+            for warning in summary
+                .warnings
+                .iter()
+                .filter(|w| !load_warnings.contains(w))
+            {
                 eprintln!("warning: {warning}");
             }
             if !quiet {
@@ -672,18 +691,42 @@ fn plot_command(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-fn validate_command(target: Option<&str>, list: bool, json: bool) -> Result<()> {
+fn validate_command(
+    target: Option<&str>,
+    list: bool,
+    json: bool,
+    from: Option<&Path>,
+) -> Result<()> {
+    use satflock_cli::validate::{self, ValidateError};
     if list {
-        for (name, what) in satflock_cli::validate::TARGETS {
+        for (name, what) in validate::TARGETS {
             print_out(&format!("{name:<16} {what}\n"))?;
         }
         return Ok(());
     }
     let target = target.unwrap_or_default();
-    let report = satflock_cli::validate::run(target).map_err(|e| match e {
-        satflock_cli::validate::ValidateError::UnknownTarget { .. } => usage(e.to_string()),
-        other => anyhow::Error::from(other),
-    })?;
+    if !validate::TARGETS.iter().any(|t| t.0 == target) {
+        return Err(usage(
+            ValidateError::UnknownTarget {
+                name: target.to_string(),
+                allowed: validate::TARGETS
+                    .iter()
+                    .map(|t| t.0)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            }
+            .to_string(),
+        ));
+    }
+    let report = match from {
+        Some(path) => {
+            let text = satflock::input_file::read_document(path)
+                .map_err(|e| usage(format!("{}: {e}", path.display())))?;
+            validate::render_saved(target, &text)
+                .map_err(|e| usage(format!("{}: {e}", path.display())))?
+        }
+        None => validate::run(target)?,
+    };
     if json {
         print_out(&(serde_json::to_string_pretty(&report)? + "\n"))?;
     } else {

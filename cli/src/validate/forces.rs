@@ -56,6 +56,7 @@ fn verdict(ok: bool) -> Verdict {
 
 fn check(id: &str, outcome: String, paper: String, ours: String, ok: bool) -> Check {
     Check {
+        criterion: None,
         id: id.into(),
         outcome,
         paper,

@@ -454,6 +454,7 @@ pub fn central_line_spacing_m(trace: &Trace, k: usize) -> f64 {
 
 fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Check {
     Check {
+        criterion: None,
         id: id.into(),
         outcome: outcome.into(),
         paper,
@@ -605,6 +606,7 @@ pub fn report() -> Result<Report, ValidateError> {
         .flat_map(|t| t.delta_v_mps.iter().copied())
         .fold(0.0, f64::max);
     checks.push(Check {
+        criterion: None,
         id: "O8".into(),
         outcome: "G3 Δv per satellite over 2000 s (Fig. 13)".into(),
         paper: "< 1 m/s".into(),
@@ -846,6 +848,7 @@ pub fn report() -> Result<Report, ValidateError> {
             .unwrap_or(f64::NAN);
         let ratio = ours / paper;
         checks.push(Check {
+            criterion: None,
             id: "O2".into(),
             outcome: format!(
                 "Table 3 L, {label}: our simulated end state at 2000 s (median of 5 seeds)"
@@ -1055,6 +1058,7 @@ pub fn report() -> Result<Report, ValidateError> {
         median(&inner.iter().map(|x| x.1).collect::<Vec<_>>()),
     ));
     Ok(Report {
+        measured: None,
         title: "Gao, Li & Wei 2022, bifurcating potential field (Aerospace 9(3):137)".into(),
         reference_header: "reference".into(),
         checks,

@@ -3,6 +3,7 @@
 //! and a verdict. `satflock validate TARGET` prints the report as a Markdown table for the README.
 
 pub mod core;
+pub mod data;
 mod forces;
 pub mod gao;
 pub mod pigeon;
@@ -15,7 +16,7 @@ use std::fmt;
 use thiserror::Error;
 
 /// How our value compares with the reference.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
     /// Within the stated tolerance.
@@ -24,6 +25,11 @@ pub enum Verdict {
     Differs,
     /// Cannot be reproduced from what the source gives (explained in the report).
     NotReproduced,
+    /// The criterion's precondition did not occur in the runs (e.g. nothing left its node), so the
+    /// outcome says nothing either way.
+    NotTested,
+    /// No longer judged (the data file says why); kept as a row so the history stays visible.
+    Retired,
 }
 
 impl fmt::Display for Verdict {
@@ -32,12 +38,14 @@ impl fmt::Display for Verdict {
             Verdict::Reproduced => "reproduced",
             Verdict::Differs => "differs",
             Verdict::NotReproduced => "not reproduced",
+            Verdict::NotTested => "not tested",
+            Verdict::Retired => "retired",
         })
     }
 }
 
 /// One reproduced outcome.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Check {
     /// Short identifier (e.g. `O3`, `T5`).
     pub id: String,
@@ -45,6 +53,10 @@ pub struct Check {
     pub outcome: String,
     /// The reference value (paper or analytic), as text with units.
     pub paper: String,
+    /// The acceptance criterion and when it was fixed (a paper's reproductions, from its data file in
+    /// `validation/`); `None`: the criterion is part of `outcome`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub criterion: Option<String>,
     /// Our value, as text with units.
     pub ours: String,
     /// Verdict.
@@ -52,7 +64,7 @@ pub struct Check {
 }
 
 /// A further table of a report (e.g. a strategy comparison beside the paper's).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Table {
     /// Title, printed as a heading above the table.
     pub title: String,
@@ -62,36 +74,81 @@ pub struct Table {
     pub rows: Vec<Vec<String>>,
 }
 
+/// When and how long a report was measured.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Measured {
+    /// The command that measured it (`satflock validate pigeon`).
+    pub command: String,
+    /// The UTC date of the measurement (`2026-12-02`).
+    pub date_utc: String,
+    /// Wall time of the whole reproduction \[s\].
+    pub wall_s: f64,
+    /// Worker threads of the process (rayon's pool).
+    pub threads: usize,
+}
+
 /// A report: a titled list of checks, further tables and notes.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Report {
     /// Title (the source being reproduced).
     pub title: String,
     /// Header of the reference column in Markdown: `reference`, or `paper` for a report whose
-    /// references are a paper's (not serialised: the JSON field of a check is always `paper`).
-    #[serde(skip)]
+    /// references are a paper's.
+    #[serde(default = "default_reference_header")]
     pub reference_header: String,
+    /// When and how long it was measured (set by [`run`]; `None` for a report built in a test).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<Measured>,
     /// The checks, in order.
     pub checks: Vec<Check>,
     /// Further tables, printed under the checks (omitted from the JSON when there are none).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tables: Vec<Table>,
     /// Remarks printed under the tables (what differs and why).
     pub notes: Vec<String>,
 }
 
+fn default_reference_header() -> String {
+    "reference".into()
+}
+
 impl Report {
-    /// The report as Markdown: a heading, a table `id | outcome | reference | ours | verdict`, the
-    /// further tables, notes.
+    /// The report as Markdown: a heading, the measurement's date and wall time, a table
+    /// `id | outcome | reference | [criterion |] ours | verdict` (the criterion column when the checks
+    /// carry one), the further tables, notes.
     pub fn to_markdown(&self) -> String {
         let cell = |s: &str| s.replace('|', "\\|").replace('\n', " ");
-        let mut out = format!(
-            "### {}\n\n| id | outcome | {} | ours | verdict |\n| --- | --- | --- | --- | --- |\n",
-            self.title, self.reference_header
-        );
-        for c in &self.checks {
+        let mut out = format!("### {}\n\n", self.title);
+        if let Some(m) = &self.measured {
             out.push_str(&format!(
-                "| {} | {} | {} | {} | {} |\n",
+                "Measured by `{}` on {} ({:.0} s wall, {} thread{}).\n\n",
+                m.command,
+                m.date_utc,
+                m.wall_s,
+                m.threads,
+                if m.threads == 1 { "" } else { "s" }
+            ));
+        }
+        let with_criterion = self.checks.iter().any(|c| c.criterion.is_some());
+        if with_criterion {
+            out.push_str(&format!(
+                "| id | outcome | {} | criterion | ours | verdict |\n| --- | --- | --- | --- | --- | --- |\n",
+                self.reference_header
+            ));
+        } else {
+            out.push_str(&format!(
+                "| id | outcome | {} | ours | verdict |\n| --- | --- | --- | --- | --- |\n",
+                self.reference_header
+            ));
+        }
+        for c in &self.checks {
+            let criterion = if with_criterion {
+                format!(" {} |", cell(c.criterion.as_deref().unwrap_or("–")))
+            } else {
+                String::new()
+            };
+            out.push_str(&format!(
+                "| {} | {} | {} |{criterion} {} | {} |\n",
                 cell(&c.id),
                 cell(&c.outcome),
                 cell(&c.paper),
@@ -168,9 +225,11 @@ pub const TARGETS: &[(&str, &str)] = &[
     ),
 ];
 
-/// Runs one target.
+/// Runs one target and stamps the report with the command, the date and the wall time. A paper's
+/// report takes its outcomes' texts and criteria from its data file ([`data`]).
 pub fn run(target: &str) -> Result<Report, ValidateError> {
-    match target {
+    let start = std::time::Instant::now();
+    let mut report = match target {
         "core" => core::report(),
         "gao" => gao::report(),
         "pigeon" => pigeon::report(),
@@ -181,5 +240,49 @@ pub fn run(target: &str) -> Result<Report, ValidateError> {
             name: target.to_string(),
             allowed: TARGETS.iter().map(|t| t.0).collect::<Vec<_>>().join(", "),
         }),
+    }?;
+    report.measured = Some(Measured {
+        command: format!("satflock validate {target}"),
+        date_utc: satflock::time::Epoch::now()
+            .map(|now| satflock::time::utc_iso(now)[..10].to_string())
+            .map_err(|e| ValidateError::Failed {
+                target: target.to_string(),
+                message: format!("cannot read the system clock: {e}"),
+            })?,
+        wall_s: start.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+    });
+    with_data(target, report)
+}
+
+/// A report with its paper's data re-applied (texts, criteria, order, retired rows); unchanged for a
+/// target without a data file.
+pub fn with_data(target: &str, mut report: Report) -> Result<Report, ValidateError> {
+    if let Some(data) = data::PaperData::of(target) {
+        let data = data?;
+        report.checks = data::apply(&data, &report.checks)?;
+        report.title = data.title;
+        report.reference_header = "paper".into();
     }
+    Ok(report)
+}
+
+/// A saved measurement (`satflock validate TARGET --json` output) re-rendered with today's data files,
+/// without running anything: what `docs/validation.md` shows for that target.
+pub fn render_saved(target: &str, json: &str) -> Result<Report, ValidateError> {
+    let report: Report = serde_json::from_str(json).map_err(|e| ValidateError::Failed {
+        target: target.to_string(),
+        message: format!("saved measurement: {e}"),
+    })?;
+    with_data(target, report)
+}
+
+/// The markers around a target's generated section in `docs/validation.md`.
+pub fn doc_markers(target: &str) -> (String, String) {
+    (
+        format!(
+            "<!-- generated: satflock validate {target} --from validation/measured/{target}.json (edit validation/{target}.toml, not this section) -->"
+        ),
+        format!("<!-- end generated: satflock validate {target} -->"),
+    )
 }

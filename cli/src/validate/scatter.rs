@@ -774,6 +774,7 @@ fn verdict(ok: bool) -> Verdict {
 
 fn check(id: &str, outcome: &str, paper: String, ours: String, ok: bool) -> Check {
     Check {
+        criterion: None,
         id: id.into(),
         outcome: outcome.into(),
         paper,
@@ -2071,6 +2072,7 @@ pub fn report() -> Result<Report, ValidateError> {
             .into(),
     );
     Ok(Report {
+        measured: None,
         title: "Nag & Summerer 2013, behaviour-based scatter manoeuvres (equilibrium shaping)"
             .into(),
         reference_header: "paper".into(),

@@ -508,6 +508,7 @@ fn failed(message: String) -> ValidateError {
 
 fn check(id: &str, outcome: &str, paper: &str, ours: String, pass: bool) -> Check {
     Check {
+        criterion: None,
         id: id.into(),
         outcome: outcome.into(),
         paper: paper.into(),
@@ -854,6 +855,7 @@ pub fn report() -> Result<Report, ValidateError> {
         ));
     }
     Ok(Report {
+        measured: None,
         title: "Takahashi & Sakai (seed 002): distance-based relative orbital transition under J2"
             .into(),
         reference_header: "reference".into(),

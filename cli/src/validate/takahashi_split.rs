@@ -195,6 +195,7 @@ pub fn report() -> Result<Report, ValidateError> {
         .collect();
     let checks = vec![
         Check {
+            criterion: None,
             id: "S1".into(),
             outcome: format!(
                 "paper's grouping (Algorithm 1): the split of `validate takahashi` (seeds 5, 7, 8 of 1–8) recurs on the same seeds; split fraction over seeds 1–{SEEDS}, first {:.0} h",
@@ -211,6 +212,7 @@ pub fn report() -> Result<Report, ValidateError> {
             verdict: verdict(paper_1_8.iter().map(|r| r.seed).eq([5, 7, 8])),
         },
         Check {
+            criterion: None,
             id: "S2".into(),
             outcome: format!(
                 "connectivity-preserving grouping (extension, method page §9.6): no run splits within {:.0} h (it can only split where the 20 m link graph does)",
@@ -228,6 +230,7 @@ pub fn report() -> Result<Report, ValidateError> {
             verdict: verdict(kept_split.is_empty()),
         },
         Check {
+            criterion: None,
             id: "S3".into(),
             outcome: format!(
                 "connectivity-preserving grouping: the swarm stays together, max|C4| relative to the reference satellite at {:.0} h < {TOGETHER_C4_M} m on every seed",
@@ -347,6 +350,7 @@ pub fn report() -> Result<Report, ValidateError> {
             .collect(),
     };
     Ok(Report {
+        measured: None,
         title: format!(
             "Takahashi & Sakai Θ2 split: paper's grouping vs connectivity-preserving grouping ({} runs)",
             runs.len()
