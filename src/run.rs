@@ -253,8 +253,9 @@ pub fn run_scenario(
 
 /// [`run_scenario`] with options. The output directory is prepared by [`prepare_output_dir`] once the
 /// run can start. A run stopped by the cancel flag writes `summary.json` with status `interrupted` and
-/// returns [`SimError::Interrupted`]. Collisions and a delta-v budget exceeded are warnings in the
-/// summary's `warnings` (the run still completes).
+/// returns [`SimError::Interrupted`]. The scenario's load-time warnings ([`Prepared::warnings`]),
+/// collisions and a delta-v budget exceeded are warnings in the summary's `warnings` (the run still
+/// completes).
 pub fn run_scenario_with(
     scenario: &Scenario,
     out_dir: &Path,
@@ -294,6 +295,7 @@ pub fn run_prepared(
         duration_s: prepared.config.duration_s,
         budget_mps,
         metadata,
+        load_warnings: prepared.warnings.clone(),
     };
     let mut simulation = Simulation::new(
         prepared.config,
@@ -383,6 +385,9 @@ struct SummaryContext {
     duration_s: f64,
     budget_mps: Option<f64>,
     metadata: BTreeMap<String, String>,
+    /// The warnings found when the scenario was prepared ([`Prepared::warnings`]), first in the
+    /// summary's `warnings`.
+    load_warnings: Vec<String>,
 }
 
 /// What [`write_inputs`] takes from the prepared scenario.
@@ -433,12 +438,13 @@ impl SummaryContext {
             },
             error: error.map(|e| e.text()),
             warnings: {
-                let mut warnings = run_warnings(
+                let mut warnings = self.load_warnings.clone();
+                warnings.extend(run_warnings(
                     totals.max_collisions,
                     totals.min_separation_m,
                     &ledger,
                     budget_mps,
-                );
+                ));
                 warnings.extend(obstacle_warning(simulation));
                 warnings
             },

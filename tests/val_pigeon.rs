@@ -12,7 +12,10 @@
 //!   the law's own flock acceleration (this also checks the z-first pigeon coordinates);
 //! * continuity and C¹ of V^F at R_d and of V^O at ρ;
 //! * a whole switching run bitwise identical on 1 and 2 threads;
-//! * the `[law]` keys, the refusal of a too-long control period and of a sensing range below R_c^2.
+//! * the `[law]` keys, the refusal of a too-long control period and of a sensing range below R_c^2;
+//! * the load-time warning of an initial egalitarian link graph that is not connected: at
+//!   R_c^1 = 120 m it names satellite 0 and its nearest distance 115.3 m computed by hand from Table I;
+//!   none at the default 130 m.
 //!
 //! P9 (hysteresis) and the P10 draw frequency are unit tests in `src/guidance/pigeon/tests.rs`.
 //! Hill frame (x radial out, y along-track, z orbit normal), SI units.
@@ -650,4 +653,74 @@ fn val_law_keys_parse_and_bad_values_and_setups_are_refused() {
 
 fn config_for(period_s: f64, range_m: f64) -> SimulationConfig {
     config(period_s, 10.0, 1.0, range_m)
+}
+
+/// The built-in `pigeon-switching` with its `[law]` edited by `edit`, prepared (validated).
+fn switching_builtin(edit: impl FnOnce(&mut PigeonParameters)) -> satflock::scenario::Prepared {
+    let mut scenario = satflock::scenario::Scenario::load("pigeon-switching").unwrap();
+    let LawConfig::Pigeon(p) = &mut scenario.file.law else {
+        panic!("pigeon-switching does not run the pigeon law")
+    };
+    edit(p);
+    scenario.prepare().unwrap()
+}
+
+#[test]
+fn val_initial_link_graph_warning_names_satellite_0_at_120_m_and_is_silent_at_130_m() {
+    // Reference by hand from Table I's (y, z) columns: satellite 0 is at (y, z) = (−163.0, −694.4) m,
+    // satellite 2 at (−139.7, −807.3) m: Δy = −23.3 m, Δz = 112.9 m, √(23.3² + 112.9²) = √13289.30
+    // = 115.279 m; satellite 1 is √(117.9² + 89.2²) = 147.8 m away and satellites 3–9 are more than
+    // 111 m away in z alone. So at R_c^1 − R_L^1 = 120 − 10 = 110 m satellite 0 has no link.
+    let by_hand = (23.3f64.powi(2) + 112.9f64.powi(2)).sqrt();
+    assert!((by_hand - 115.279).abs() < 1e-3);
+    let plane = |r: &[f64; 6]| Vector2::new(r[2], r[1]);
+    let nearest = TABLE_I[1..]
+        .iter()
+        .map(|r| (plane(r) - plane(&TABLE_I[0])).norm())
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(nearest, (plane(&TABLE_I[2]) - plane(&TABLE_I[0])).norm());
+    assert!((nearest - by_hand).abs() < 1e-9);
+
+    let at_120 = switching_builtin(|p| p.egalitarian_range_m = 120.0);
+    // The built-in's initial states are Table I.
+    for (s, r) in at_120.satellites.iter().zip(TABLE_I.iter()) {
+        assert_eq!(s.relative_state.position_m, Vector3::new(r[0], r[1], r[2]));
+    }
+    let [warning] = at_120.warnings.as_slice() else {
+        panic!("expected one warning, got {:?}", at_120.warnings)
+    };
+    assert!(
+        warning.starts_with("law.egalitarian_range_m − law.link_delay_m = 110 m:"),
+        "{warning}"
+    );
+    assert!(
+        warning.contains("2 components of 9 and 1 satellites"),
+        "{warning}"
+    );
+    let expected = format!("satellite 0 has no neighbour within 110 m, nearest {by_hand:.1} m");
+    assert_eq!(
+        expected,
+        "satellite 0 has no neighbour within 110 m, nearest 115.3 m"
+    );
+    assert!(warning.contains(&expected), "{warning}");
+
+    // The default (130 m: link radius 120 m > 115.3 m) and the non-switching baseline: no warning.
+    let default = switching_builtin(|_| {});
+    assert!(default.warnings.is_empty(), "{:?}", default.warnings);
+    let baseline = satflock::scenario::Scenario::load("pigeon-baseline")
+        .unwrap()
+        .prepare()
+        .unwrap();
+    assert!(baseline.warnings.is_empty(), "{:?}", baseline.warnings);
+    // Just above the nearest distance the graph connects; just below it does not.
+    let above = switching_builtin(|p| p.egalitarian_range_m = 10.0 + by_hand + 0.01);
+    assert!(above.warnings.is_empty(), "{:?}", above.warnings);
+    let below = switching_builtin(|p| p.egalitarian_range_m = 10.0 + by_hand - 0.01);
+    assert_eq!(below.warnings.len(), 1);
+    // Switching off: not checked (the load-time check covers the law with pattern switching).
+    let off = switching_builtin(|p| {
+        p.egalitarian_range_m = 120.0;
+        p.switching = false;
+    });
+    assert!(off.warnings.is_empty(), "{:?}", off.warnings);
 }

@@ -429,3 +429,59 @@ fn regress_closed_stdout_pipe_is_not_a_panic() {
         assert_eq!(output.status.code(), Some(0), "{args:?}: {stderr}");
     }
 }
+
+/// `satflock run` of the pigeon switching scenario at R_c^1 = 120 m (the default before 2026-12-01):
+/// the load-time warning of the initial link graph on stderr, once, and first in summary.json's
+/// `warnings`; at the default 130 m, neither.
+#[test]
+fn val_run_pigeon_warns_of_a_disconnected_initial_link_graph_on_stderr_and_in_the_summary() {
+    let text = include_str!("../../scenarios/pigeon-switching.toml");
+    let dir = scratch_dir("pigeon-links");
+    let short = |range: &str| {
+        let edited = text
+            .replacen("duration_s = 6000.0", "duration_s = 2.0", 1)
+            .replacen(
+                "egalitarian_range_m = 130.0",
+                &format!("egalitarian_range_m = {range}"),
+                1,
+            );
+        assert_ne!(edited, text, "pigeon-switching.toml changed shape");
+        let path = dir.join(format!("pigeon-{range}.toml"));
+        std::fs::write(&path, edited).unwrap();
+        let out = dir.join(format!("out-{range}"));
+        let output = satflock()
+            .args(["run", "--quiet", "--no-plots", "--threads", "2", "--out"])
+            .arg(&out)
+            .arg(&path)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert!(output.status.success(), "{stderr}");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        let warnings: Vec<String> = summary["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w.as_str().unwrap().to_string())
+            .collect();
+        (stderr, warnings)
+    };
+    let (stderr, warnings) = short("120.0");
+    let warning = warnings
+        .first()
+        .unwrap_or_else(|| panic!("no warning in summary.json; stderr: {stderr}"));
+    assert!(
+        warning.starts_with("law.egalitarian_range_m − law.link_delay_m = 110 m:")
+            && warning.contains("satellite 0 has no neighbour within 110 m, nearest 115.3 m"),
+        "{warning}"
+    );
+    let line = format!("warning: {warning}");
+    assert_eq!(stderr.lines().filter(|l| *l == line).count(), 1, "{stderr}");
+    let (stderr, warnings) = short("130.0");
+    assert!(
+        !stderr.contains("link graph") && warnings.iter().all(|w| !w.contains("link graph")),
+        "{stderr} {warnings:?}"
+    );
+}

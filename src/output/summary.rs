@@ -91,8 +91,10 @@ pub struct RunSummary {
     pub status: RunStatus,
     /// The error that stopped the run, if any.
     pub error: Option<String>,
-    /// What the run did that the user should know about although it completed (collisions, a delta-v
-    /// budget exceeded), one sentence each; the same sentences go to stderr.
+    /// What the user should know about although the run completed, one sentence each: first what was
+    /// found when the scenario was loaded (e.g. a `pigeon` law's initial link graph that is not
+    /// connected, [`crate::scenario::Prepared::warnings`]), then what the run did (collisions, a
+    /// delta-v budget exceeded); the same sentences go to stderr.
     pub warnings: Vec<String>,
     /// Number of satellites at the start.
     pub n_satellites: usize,

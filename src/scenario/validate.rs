@@ -91,6 +91,12 @@ pub struct Prepared {
     /// Where the law came from when a caller's law replaced the scenario's ([`Prepared::replace_law`]:
     /// e.g. `python:MyLaw`); `None`: the scenario's own `[law]` runs.
     pub law_source: Option<String>,
+    /// Warnings found when the scenario was prepared: the run still starts. `summary.json`'s
+    /// `warnings` lists them first and `satflock run` prints them when it loads the scenario. Today:
+    /// the `pigeon` law (with `switching = true`) whose initial egalitarian link graph is not
+    /// connected. A warning about the scenario's `[law]` starts with its key (`law.`) and is dropped
+    /// by [`Prepared::replace_law`].
+    pub warnings: Vec<String>,
 }
 
 impl Prepared {
@@ -146,6 +152,7 @@ impl Prepared {
             min_mass_kg,
         )?;
         self.law_source = Some(source.to_string());
+        self.warnings.retain(|w| !w.starts_with("law."));
         Ok(())
     }
 }
@@ -653,6 +660,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         .fold(f64::INFINITY, f64::min);
     let law = build_law(&c, "law", &f.law, &config, count, min_mass_kg)?;
     let events = events(&c, scenario, count, &config, min_mass_kg)?;
+    let warnings = law_warnings(&f.law, &satellites);
     Ok(Prepared {
         epoch,
         name: f.name.clone(),
@@ -663,7 +671,27 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         write_trajectory: f.output.trajectory,
         tags: f.output.tags.clone(),
         law_source: None,
+        warnings,
     })
+}
+
+/// The load-time warnings about the scenario's `[law]` at t = 0 (see [`Prepared::warnings`]): for the
+/// `pigeon` law with pattern switching, an initial egalitarian link graph that is not connected
+/// (pairs within `egalitarian_range_m − link_delay_m` in the law's y–z plane,
+/// `docs/methods/pigeon.md`).
+fn law_warnings(law: &LawConfig, satellites: &[SatelliteInit]) -> Vec<String> {
+    match law {
+        LawConfig::Pigeon(p) if p.switching => {
+            let positions: Vec<Vector3<f64>> = satellites
+                .iter()
+                .map(|s| s.relative_state.position_m)
+                .collect();
+            crate::guidance::pigeon::connectivity::initial_link_warning(&positions, p)
+                .into_iter()
+                .collect()
+        }
+        _ => Vec::new(),
+    }
 }
 
 /// Builds a law and checks that it fits the dynamics and timing; an error names `key` (the law's table,

@@ -26,6 +26,7 @@
 //! range in 3-D (identical to the 2-D rule once the radial PD has brought x to zero). Engine obstacles
 //! are spheres; the law uses the 2-D distance to the centre and the sphere's radius as r^O.
 
+pub(crate) mod connectivity;
 pub mod parameters;
 pub mod potentials;
 pub mod switching;
