@@ -681,7 +681,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
 /// `docs/methods/pigeon.md`).
 fn law_warnings(law: &LawConfig, satellites: &[SatelliteInit]) -> Vec<String> {
     match law {
-        LawConfig::Pigeon(p) if p.switching => {
+        LawConfig::Pigeon(p) => {
             let positions: Vec<Vector3<f64>> = satellites
                 .iter()
                 .map(|s| s.relative_state.position_m)

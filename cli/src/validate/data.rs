@@ -11,11 +11,18 @@ use serde::Deserialize;
 use crate::validate::{Check, ValidateError, Verdict};
 
 /// The data files, by validation target.
-const FILES: &[(&str, &str, &str)] = &[(
-    "pigeon",
-    "validation/pigeon.toml",
-    include_str!("../../../validation/pigeon.toml"),
-)];
+const FILES: &[(&str, &str, &str)] = &[
+    (
+        "pigeon",
+        "validation/pigeon.toml",
+        include_str!("../../../validation/pigeon.toml"),
+    ),
+    (
+        "scatter",
+        "validation/scatter.toml",
+        include_str!("../../../validation/scatter.toml"),
+    ),
+];
 
 /// When an acceptance criterion was set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
@@ -64,6 +71,10 @@ pub struct PaperData {
     /// The outcomes, in the order of the report.
     #[serde(rename = "outcome")]
     pub outcomes: Vec<Outcome>,
+    /// The paper's numbers of a report's further tables, by table name: rows of column → text as
+    /// printed (e.g. the strategy comparison's Table 2 values beside ours).
+    #[serde(default)]
+    pub tables: BTreeMap<String, Vec<BTreeMap<String, String>>>,
 }
 
 fn bad_data(file: &str, message: impl std::fmt::Display) -> ValidateError {
@@ -108,6 +119,16 @@ impl PaperData {
             }
         }
         Ok(data)
+    }
+
+    /// The rows of a further table's paper values.
+    pub fn table(&self, name: &str) -> Result<&[BTreeMap<String, String>], ValidateError> {
+        self.tables.get(name).map(Vec::as_slice).ok_or_else(|| {
+            bad_data(
+                &format!("validation/{}.toml", self.target),
+                format!("no [[tables.{name}]]"),
+            )
+        })
     }
 
     /// The outcome of that id.
