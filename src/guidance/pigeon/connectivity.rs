@@ -7,7 +7,7 @@
 //! by the target alone, an ordinary one by nothing (velocity alignment with hierarchical neighbours
 //! within R_c^2 aside) until it comes within the link radius of another. With the paper's Table I at
 //! R_c^1 = 120 m, R_L^1 = 10 m, satellite 0 (115.3 m from its nearest neighbour) started alone, flew off
-//! at the 5 m/s² cap and crashed back through the flock at 93–99 s (`docs/methods/pigeon.md`).
+//! at the 5 m/s² cap and crashed back through the flock after about 90 s (`docs/methods/pigeon.md`).
 //!
 //! The engine reports a neighbour only within the 3-D sensing range (≥ R_c^2 > R_c^1 − R_L^1); a pair
 //! within the link radius in the plane but beyond the sensing range in 3-D (a radial offset of tens of
