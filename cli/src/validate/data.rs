@@ -22,6 +22,16 @@ const FILES: &[(&str, &str, &str)] = &[
         "validation/scatter.toml",
         include_str!("../../../validation/scatter.toml"),
     ),
+    (
+        "takahashi",
+        "validation/takahashi.toml",
+        include_str!("../../../validation/takahashi.toml"),
+    ),
+    (
+        "takahashi-split",
+        "validation/takahashi-split.toml",
+        include_str!("../../../validation/takahashi-split.toml"),
+    ),
 ];
 
 /// When an acceptance criterion was set.

@@ -18,6 +18,7 @@ use satflock::relative::j2_averaged::{AveragedJ2, OrbitParameters, SwarmPlane};
 use satflock::scenario::Scenario;
 use satflock::swarm::{Recorder, Simulation, Snapshot};
 
+use super::data::{Outcome, PaperData};
 use super::{Check, Report, ValidateError, Verdict};
 
 /// Everything a traced run keeps: parameters relative to the LVLH origin (the reference satellite) at
@@ -506,18 +507,11 @@ fn failed(message: String) -> ValidateError {
     }
 }
 
-fn check(id: &str, outcome: &str, paper: &str, ours: String, pass: bool) -> Check {
-    Check {
-        criterion: None,
-        id: id.into(),
-        outcome: outcome.into(),
-        paper: paper.into(),
-        ours,
-        verdict: if pass {
-            Verdict::Reproduced
-        } else {
-            Verdict::Differs
-        },
+fn verdict(pass: bool) -> Verdict {
+    if pass {
+        Verdict::Reproduced
+    } else {
+        Verdict::Differs
     }
 }
 
@@ -525,103 +519,64 @@ fn fmt_h(h: Option<f64>) -> String {
     h.map_or("never".into(), |h| format!("{h:.2} h"))
 }
 
-/// The full reproduction report (about 4 CPU-minutes, 5 min wall on 2 shared cores: two 120 h runs of
-/// 100 satellites under truth J2, four 24 h linear runs of 50, six 2 h linear runs of 50 for T2 by seed,
-/// eight 4 h Θ2 runs for the split by seed, two 24 h outage runs of 50 under truth J2).
-pub fn report() -> Result<Report, ValidateError> {
-    let origin = 0;
-    let range_m = 1.0;
-    let mut checks = Vec::new();
-    let mut notes = Vec::new();
-    // §4.1, linear model.
-    let mut conn = BTreeMap::new();
-    for (case, name) in [
-        ("large", "ts-connectable-large"),
-        ("small", "ts-connectable-small"),
-    ] {
-        for variant in [Variant::Main, Variant::Opp] {
+/// The paper's data file (`validation/takahashi.toml`).
+pub fn data() -> Result<PaperData, ValidateError> {
+    PaperData::of("takahashi").ok_or_else(|| failed("no validation/takahashi.toml".into()))?
+}
+
+/// The reference satellite (S/C_ref), index 0 of every `ts-*` scenario.
+const ORIGIN: usize = 0;
+/// The controllable range r_s of the `ts-*` scenarios \[m\].
+const RANGE_M: f64 = 1.0;
+/// The actuator limit ū of the `ts-plane-*` scenarios \[m/s²\].
+const ACCEL_LIMIT_M_S2: f64 = 1e-6;
+
+/// The four §4.1 runs (linear model), by C₁ case and law.
+struct Connectable {
+    large_main: ConnectableStats,
+    large_opp: ConnectableStats,
+    small_main: ConnectableStats,
+    small_opp: ConnectableStats,
+}
+
+impl Connectable {
+    fn run() -> Result<Self, ValidateError> {
+        let stats = |name: &str, variant: Variant| -> Result<ConnectableStats, ValidateError> {
             let s = scenario(name, Some(variant), None).map_err(failed)?;
             let run = traced_run(&s, 60.0, f64::INFINITY).map_err(failed)?;
-            conn.insert(
-                (case, variant == Variant::Main),
-                connectable_stats(&run, origin, range_m),
-            );
-        }
+            Ok(connectable_stats(&run, ORIGIN, RANGE_M))
+        };
+        Ok(Self {
+            large_main: stats("ts-connectable-large", Variant::Main)?,
+            large_opp: stats("ts-connectable-large", Variant::Opp)?,
+            small_main: stats("ts-connectable-small", Variant::Main)?,
+            small_opp: stats("ts-connectable-small", Variant::Opp)?,
+        })
     }
-    let get = |case: &str, main: bool| conn[&(case, main)].clone();
-    let t1_pass = conn
-        .values()
-        .all(|s| s.settle_h.is_some_and(|h| h <= 6.0) && s.settle_1e6_h.is_some_and(|h| h <= 12.0));
-    checks.push(check(
-        "T1",
-        "§4.1 both laws: max|C1| < 1e-3 m and max|C4| < 1e-2 m within 6 h, < 1e-6 m within 12 h (main large / opp large / main small / opp small)",
-        "earlier prototype: 1.5–3.0 h (first pair)",
-        format!(
-            "{} / {} / {} / {}; 1e-6: {} / {} / {} / {}",
-            fmt_h(get("large", true).settle_h),
-            fmt_h(get("large", false).settle_h),
-            fmt_h(get("small", true).settle_h),
-            fmt_h(get("small", false).settle_h),
-            fmt_h(get("large", true).settle_1e6_h),
-            fmt_h(get("large", false).settle_1e6_h),
-            fmt_h(get("small", true).settle_1e6_h),
-            fmt_h(get("small", false).settle_1e6_h),
-        ),
-        t1_pass,
-    ));
-    let (ms, os) = (get("small", true), get("small", false));
-    let (ml, ol) = (get("large", true), get("large", false));
-    checks.push(check(
-        "T2",
-        "§4.1 small C1: median T̂_conn at 1 h, main ≥ 20× opp; opp fraction with growing |C1| ≥ 0.85; large C1: median larger for main",
-        "earlier prototype: main 544–2086 h vs opp 4.0–8.2 h; opp fraction 0.92–1.00",
-        format!(
-            "small: main {:.1} h vs opp {:.2} h, opp growing {:.2} (main {:.2}); large: main {:.1} h vs opp {:.1} h; min T̂ at 1 h small main {:.1} h, opp {:.2} h",
-            ms.median_tconn_1h_h, os.median_tconn_1h_h, os.growing_fraction, ms.growing_fraction,
-            ml.median_tconn_1h_h, ol.median_tconn_1h_h, ms.min_tconn_1h_h, os.min_tconn_1h_h
-        ),
-        ms.median_tconn_1h_h >= 20.0 * os.median_tconn_1h_h
-            && os.growing_fraction >= 0.85
-            && ml.median_tconn_1h_h > ol.median_tconn_1h_h,
-    ));
-    // T2's large-C1 clause by seed (the earlier prototype's ranges of method page §11.2 are over seeds 1–3): the first 2 h suffice
-    // for the median T̂_conn at 1 h.
-    let mut by_seed = Vec::new();
-    for seed in 1..=3u64 {
-        let mut medians = [0.0; 2];
-        for (k, variant) in [Variant::Main, Variant::Opp].into_iter().enumerate() {
-            let mut s = scenario("ts-connectable-large", Some(variant), Some(2.0 * 3600.0))
-                .map_err(failed)?;
-            s.file.seed = seed;
-            let run = traced_run(&s, 60.0, f64::INFINITY).map_err(failed)?;
-            medians[k] = connectable_stats(&run, origin, range_m).median_tconn_1h_h;
-        }
-        by_seed.push(format!(
-            "seed {seed}: main {:.1} h vs opp {:.1} h",
-            medians[0], medians[1]
-        ));
+
+    /// main large, opp large, main small, opp small (the order of T1's columns).
+    fn all(&self) -> [&ConnectableStats; 4] {
+        [
+            &self.large_main,
+            &self.large_opp,
+            &self.small_main,
+            &self.small_opp,
+        ]
     }
-    notes.push(format!(
-        "T2 large-C1 clause (median T̂_conn at 1 h larger for main) by seed, ts-connectable-large: {}. The earlier prototype's ranges over its seeds 1–3 are main 6–52 h vs opp 2.4–6.4 h; the clause depends on the draw.",
-        by_seed.join("; ")
-    ));
-    checks.push(check(
-        "T3",
-        "§4.1 mean sign changes of C1 per satellite: main ≤ ½ opp, both cases",
-        "earlier prototype: large 0.6–1.0 vs 2.7–4.6; small 0.8–1.1 vs 3.9–4.3",
-        format!(
-            "large {:.2} vs {:.2}; small {:.2} vs {:.2}",
-            ml.mean_sign_changes, ol.mean_sign_changes, ms.mean_sign_changes, os.mean_sign_changes
-        ),
-        ml.mean_sign_changes <= 0.5 * ol.mean_sign_changes
-            && ms.mean_sign_changes <= 0.5 * os.mean_sign_changes,
-    ));
-    // §4.2, truth model, 120 h, then one free orbit.
-    let mut planes = Vec::new();
-    for (label, name, tp, tz) in [
-        ("Θ1", "ts-plane-1", 30.0, 0.0),
-        ("Θ2", "ts-plane-2", 40.0, 50.0),
-    ] {
+}
+
+/// One §4.2 deployment (truth J2, the scenario's 120 h, then one free orbit with every link cut).
+struct Plane {
+    /// `Θ1` or `Θ2`.
+    label: &'static str,
+    /// Statistics at the end of the controlled run.
+    stats: PlaneStats,
+    /// Edge distances over the free orbit.
+    edges: EdgeDistanceStats,
+}
+
+impl Plane {
+    fn run(label: &'static str, name: &str) -> Result<Self, ValidateError> {
         let mut s = scenario(name, None, None).map_err(failed)?;
         let end = s.file.duration_s;
         let orbit_s = 2.0 * std::f64::consts::PI / s_mean_motion(&s);
@@ -637,7 +592,7 @@ pub fn report() -> Result<Report, ValidateError> {
                 },
             });
         let run = traced_run(&s, 1800.0, end).map_err(failed)?;
-        // Statistics at 120 h (before the free orbit): trim the coarse samples.
+        // Statistics at the end of the controlled run (before the free orbit): trim the coarse samples.
         let mut at_end = run.clone();
         let keep = at_end
             .times_s
@@ -647,218 +602,367 @@ pub fn report() -> Result<Report, ValidateError> {
         at_end.times_s.truncate(keep);
         at_end.parameters.truncate(keep);
         at_end.mean_accel_m_s2.truncate(keep);
-        let stats = plane_stats(&at_end, origin, range_m, 1e-6);
-        let e = edge_distance_stats(&run);
-        let r_avg = 0.5;
-        let rms = e.median_rms_m / r_avg;
-        planes.push((label, tp, tz, stats, e, rms));
+        Ok(Self {
+            label,
+            stats: plane_stats(&at_end, ORIGIN, RANGE_M, ACCEL_LIMIT_M_S2),
+            edges: edge_distance_stats(&run),
+        })
     }
-    for (label, tp, tz, st, p2p, rms) in &planes {
-        checks.push(check(
-            &format!("T4 {label}"),
-            "graph connected at every grouping update; saturation fraction < 5 % after 24 h",
-            "earlier prototype: connected; <5 %",
-            format!(
-                "connected: {}; max saturated fraction after 24 h {:.1} %",
-                st.always_connected,
-                100.0 * st.max_saturated_fraction_late
-            ),
-            st.always_connected && st.max_saturated_fraction_late < 0.05,
-        ));
-        checks.push(check(
-            &format!("T5 {label}"),
-            "at 120 h, max|C1| < 1e-2 m, max|C4| < 0.1 m (γ_A = 10)",
-            if *label == "Θ1" {
-                "earlier prototype: 1.5e-3 m, 9.1e-3 m"
-            } else {
-                "earlier prototype: 1.9e-3 m, 0.034 m"
-            },
-            format!("{:.2e} m, {:.2e} m", st.max_c1_m, st.max_c4_m),
-            st.max_c1_m < 1e-2 && st.max_c4_m < 0.1,
-        ));
-        checks.push(check(
-            &format!("T6 {label}"),
-            "measured plane angles within 1° (Θ_P) and 1.5° (Θ_z-xy) of target, satellites with r_xy > 0.05 m",
-            if *label == "Θ1" { "target 30°, 0°; earlier prototype 30.01–30.11°, 0.03–0.15°" } else { "target 40°, 50°; earlier prototype 40.01–40.16°, 50.16–50.46°" },
-            format!(
-                "{:.2}–{:.2}°, {:.2}–{:.2}°",
-                st.theta_p_deg.0, st.theta_p_deg.1, st.theta_zxy_deg.0, st.theta_zxy_deg.1
-            ),
-            (st.theta_p_deg.0 - tp).abs() < 1.0
-                && (st.theta_p_deg.1 - tp).abs() < 1.0
-                && (st.theta_zxy_deg.0 - tz).abs() < 1.5
-                && (st.theta_zxy_deg.1 - tz).abs() < 1.5,
-        ));
-        checks.push(check(
-            &format!("T7 {label}"),
-            "edge r_xy/r_xyd: median in [0.9, 1.05], p5–p95 in [0.65, 1.35]",
-            if *label == "Θ1" {
-                "earlier prototype 0.77 / 0.96 / 1.19"
-            } else {
-                "earlier prototype 0.80 / 0.96 / 1.21"
-            },
-            format!(
-                "{:.2} / {:.2} / {:.2}",
-                st.edge_ratio[0], st.edge_ratio[1], st.edge_ratio[2]
-            ),
-            (0.9..=1.05).contains(&st.edge_ratio[1])
-                && st.edge_ratio[0] >= 0.65
-                && st.edge_ratio[2] <= 1.35,
-        ));
-        checks.push(check(
-            &format!("T8 {label}"),
-            "edge set unchanged over the last 24 h (≤ 1 %)",
-            if *label == "Θ1" {
-                "earlier prototype: frozen after 8 h"
-            } else {
-                "earlier prototype: frozen after 48 h"
-            },
-            format!(
-                "{} changes in total, last at {:.1} h",
-                st.edge_changes.0, st.edge_changes.1
-            ),
-            st.edge_changes.1 <= 96.0,
-        ));
-        checks.push(check(
-            &format!("T9 {label}"),
-            "min T̂_conn > 5 h for t ≥ 48 h (30 min samples)",
-            if *label == "Θ1" {
-                "earlier prototype ≥ 11.9 h (8 h samples); 55 h at 120 h"
-            } else {
-                "earlier prototype ≥ 11.9 h (8 h samples); 45 h at 120 h"
-            },
-            format!("{:.1} h", st.min_tconn_late_h),
-            st.min_tconn_late_h > 5.0,
-        ));
-        if *label == "Θ1" {
-            checks.push(check(
-                "T10 Θ1",
-                "physical edge distance over one free orbit after 120 h: peak-to-peak / mean < 5 %",
-                "earlier prototype: 2.2 %",
-                {
-                    let ((a, b), c1, c4, rxy, tp, tz) = p2p.worst_edge;
-                    format!(
-                        "{:.1} % (median {:.1} %, p95 {:.1} % over edges; worst edge {a}–{b}: |C1| {c1:.1e} m, |C4| {c4:.1e} m, r_xy {rxy:.3} m, Θ̂ {tp:.2}°, {tz:.2}°); the same final states propagated with the averaged-J2 closed form: max {:.1} %, median {:.1} %",
-                        100.0 * p2p.worst_p2p,
-                        100.0 * p2p.median_p2p,
-                        100.0 * p2p.p95_p2p,
-                        100.0 * p2p.model_p2p.0,
-                        100.0 * p2p.model_p2p.1
-                    )
-                },
-                p2p.worst_p2p < 0.05,
-            ));
+
+    /// The outcome `ID Θk` of this plane.
+    fn outcome<'a>(&self, data: &'a PaperData, id: &str) -> Result<&'a Outcome, ValidateError> {
+        data.outcome(&format!("{id} {}", self.label))
+    }
+}
+
+fn t1(o: &Outcome, c: &Connectable) -> Result<Check, ValidateError> {
+    let (settle, settle_1e6) = (o.value("settle_max_h")?, o.value("settle_1e6_max_h")?);
+    let all = c.all();
+    let pass = all.iter().all(|s| {
+        s.settle_h.is_some_and(|h| h <= settle) && s.settle_1e6_h.is_some_and(|h| h <= settle_1e6)
+    });
+    let [a, b, d, e] = all.map(|s| fmt_h(s.settle_h));
+    let [a6, b6, d6, e6] = all.map(|s| fmt_h(s.settle_1e6_h));
+    Ok(o.check(
+        format!("{a} / {b} / {d} / {e}; 1e-6: {a6} / {b6} / {d6} / {e6}"),
+        verdict(pass),
+    ))
+}
+
+/// T2's (and P3's) small-C1 clauses.
+fn small_c1_clauses(o: &Outcome, c: &Connectable) -> Result<bool, ValidateError> {
+    Ok(c.small_main.median_tconn_1h_h
+        >= o.value("small_tconn_ratio_min")? * c.small_opp.median_tconn_1h_h
+        && c.small_opp.growing_fraction >= o.value("small_opp_growing_fraction_min")?)
+}
+
+fn t2(o: &Outcome, c: &Connectable) -> Result<Check, ValidateError> {
+    let (ms, os, ml, ol) = (&c.small_main, &c.small_opp, &c.large_main, &c.large_opp);
+    Ok(o.check(
+        format!(
+            "small: main {:.1} h vs opp {:.2} h, opp growing {:.2} (main {:.2}); large: main {:.1} h vs opp {:.1} h; min T̂ at 1 h small main {:.1} h, opp {:.2} h",
+            ms.median_tconn_1h_h, os.median_tconn_1h_h, os.growing_fraction, ms.growing_fraction,
+            ml.median_tconn_1h_h, ol.median_tconn_1h_h, ms.min_tconn_1h_h, os.min_tconn_1h_h
+        ),
+        verdict(small_c1_clauses(o, c)? && ml.median_tconn_1h_h > ol.median_tconn_1h_h),
+    ))
+}
+
+fn t3(o: &Outcome, c: &Connectable) -> Result<Check, ValidateError> {
+    let ratio = o.value("sign_change_ratio_max")?;
+    let (ms, os, ml, ol) = (&c.small_main, &c.small_opp, &c.large_main, &c.large_opp);
+    Ok(o.check(
+        format!(
+            "large {:.2} vs {:.2}; small {:.2} vs {:.2}",
+            ml.mean_sign_changes, ol.mean_sign_changes, ms.mean_sign_changes, os.mean_sign_changes
+        ),
+        verdict(
+            ml.mean_sign_changes <= ratio * ol.mean_sign_changes
+                && ms.mean_sign_changes <= ratio * os.mean_sign_changes,
+        ),
+    ))
+}
+
+fn t4(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let st = &p.stats;
+    Ok(o.check(
+        format!(
+            "connected: {}; max saturated fraction after 24 h {:.1} %",
+            st.always_connected,
+            100.0 * st.max_saturated_fraction_late
+        ),
+        verdict(
+            st.always_connected
+                && st.max_saturated_fraction_late < o.value("saturated_fraction_max")?,
+        ),
+    ))
+}
+
+fn t5(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let st = &p.stats;
+    Ok(o.check(
+        format!("{:.2e} m, {:.2e} m", st.max_c1_m, st.max_c4_m),
+        verdict(st.max_c1_m < o.value("max_c1_m")? && st.max_c4_m < o.value("max_c4_m")?),
+    ))
+}
+
+fn t6(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let st = &p.stats;
+    let (tp, tz) = (
+        o.value("target_theta_p_deg")?,
+        o.value("target_theta_zxy_deg")?,
+    );
+    let (dp, dz) = (
+        o.value("tolerance_theta_p_deg")?,
+        o.value("tolerance_theta_zxy_deg")?,
+    );
+    Ok(o.check(
+        format!(
+            "{:.2}–{:.2}°, {:.2}–{:.2}°",
+            st.theta_p_deg.0, st.theta_p_deg.1, st.theta_zxy_deg.0, st.theta_zxy_deg.1
+        ),
+        verdict(
+            (st.theta_p_deg.0 - tp).abs() < dp
+                && (st.theta_p_deg.1 - tp).abs() < dp
+                && (st.theta_zxy_deg.0 - tz).abs() < dz
+                && (st.theta_zxy_deg.1 - tz).abs() < dz,
+        ),
+    ))
+}
+
+/// T7's (and P6's) median clause.
+fn median_ratio_ok(o: &Outcome, p: &Plane) -> Result<bool, ValidateError> {
+    Ok((o.value("median_min")?..=o.value("median_max")?).contains(&p.stats.edge_ratio[1]))
+}
+
+fn t7(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let r = p.stats.edge_ratio;
+    Ok(o.check(
+        format!("{:.2} / {:.2} / {:.2}", r[0], r[1], r[2]),
+        verdict(
+            median_ratio_ok(o, p)? && r[0] >= o.value("p5_min")? && r[2] <= o.value("p95_max")?,
+        ),
+    ))
+}
+
+fn t8(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let (changes, last_h) = p.stats.edge_changes;
+    Ok(o.check(
+        format!("{changes} changes in total, last at {last_h:.1} h"),
+        verdict(last_h <= o.value("last_change_max_h")?),
+    ))
+}
+
+fn t9(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let t = p.stats.min_tconn_late_h;
+    Ok(o.check(format!("{t:.1} h"), verdict(t > o.value("min_tconn_h")?)))
+}
+
+fn t10(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let e = &p.edges;
+    let ((a, b), c1, c4, rxy, tp, tz) = e.worst_edge;
+    Ok(o.check(
+        format!(
+            "{:.1} % (median {:.1} %, p95 {:.1} % over edges; worst edge {a}–{b}: |C1| {c1:.1e} m, |C4| {c4:.1e} m, r_xy {rxy:.3} m, Θ̂ {tp:.2}°, {tz:.2}°); the same final states propagated with the averaged-J2 closed form: max {:.1} %, median {:.1} %",
+            100.0 * e.worst_p2p,
+            100.0 * e.median_p2p,
+            100.0 * e.p95_p2p,
+            100.0 * e.model_p2p.0,
+            100.0 * e.model_p2p.1
+        ),
+        verdict(e.worst_p2p < o.value("p2p_max_rel")?),
+    ))
+}
+
+fn t11(o: &Outcome, p: &Plane) -> Result<Check, ValidateError> {
+    let rms = p.edges.median_rms_m / o.value("r_avg_m")?;
+    Ok(o.check(
+        format!("{rms:.3}"),
+        verdict((o.value("ratio_min")?..=o.value("ratio_max")?).contains(&rms)),
+    ))
+}
+
+/// A row that holds when every one of `rows` is reproduced.
+fn all_reproduced(o: &Outcome, ours: &str, rows: &[&Check]) -> Check {
+    o.check(
+        ours.into(),
+        verdict(rows.iter().all(|c| c.verdict == Verdict::Reproduced)),
+    )
+}
+
+fn p2(o: &Outcome, c: &Connectable) -> Result<Check, ValidateError> {
+    let (ml, ol) = (&c.large_main, &c.large_opp);
+    Ok(o.check(
+        format!(
+            "sign changes main {:.2} vs opp {:.2}; growing |C1| main {:.2}, opp {:.2}",
+            ml.mean_sign_changes, ol.mean_sign_changes, ml.growing_fraction, ol.growing_fraction
+        ),
+        verdict(
+            ml.mean_sign_changes <= o.value("sign_change_ratio_max")? * ol.mean_sign_changes
+                && ol.growing_fraction > o.value("opp_growing_fraction_above")?,
+        ),
+    ))
+}
+
+fn p3(o: &Outcome, c: &Connectable) -> Result<Check, ValidateError> {
+    Ok(o.check("see T2".into(), verdict(small_c1_clauses(o, c)?)))
+}
+
+fn p5(o: &Outcome, planes: &[Plane], t5: &[&Check]) -> Check {
+    let (c1, c4): (Vec<String>, Vec<String>) = planes
+        .iter()
+        .map(|p| {
+            (
+                format!("{:.1e}", p.stats.max_c1_m),
+                format!("{:.1e}", p.stats.max_c4_m),
+            )
+        })
+        .unzip();
+    let labels: Vec<&str> = planes.iter().map(|p| p.label).collect();
+    let ours = format!(
+        "bounded residuals, not zero: max|C1| {} m, max|C4| {} m ({})",
+        c1.join(" / "),
+        c4.join(" / "),
+        labels.join(" / ")
+    );
+    all_reproduced(o, &ours, t5)
+}
+
+fn p6(o: &Outcome, data: &PaperData, planes: &[Plane], p4: &Check) -> Result<Check, ValidateError> {
+    let mut pass = p4.verdict == Verdict::Reproduced;
+    for p in planes {
+        pass &= median_ratio_ok(p.outcome(data, "T7")?, p)?;
+    }
+    Ok(o.check("see T6, T7".into(), verdict(pass)))
+}
+
+/// T2's large-C1 clause by seed on `ts-connectable-large` (the earlier prototype's ranges in T2's
+/// reference are over seeds 1–3): the first 2 h suffice for the median T̂_conn at 1 h.
+fn t2_by_seed_note() -> Result<String, ValidateError> {
+    const SEEDS: std::ops::RangeInclusive<u64> = 1..=3;
+    let hours = 2.0;
+    let mut by_seed = Vec::new();
+    let mut held = 0;
+    for seed in SEEDS {
+        let mut medians = [0.0; 2];
+        for (k, variant) in [Variant::Main, Variant::Opp].into_iter().enumerate() {
+            let mut s = scenario("ts-connectable-large", Some(variant), Some(hours * 3600.0))
+                .map_err(failed)?;
+            s.file.seed = seed;
+            let run = traced_run(&s, 60.0, f64::INFINITY).map_err(failed)?;
+            medians[k] = connectable_stats(&run, ORIGIN, RANGE_M).median_tconn_1h_h;
         }
-        checks.push(check(
-            &format!("T11 {label}"),
-            "median over edges of RMS distance over the free orbit / r_avg in [0.9, 1.05]",
-            "earlier prototype: 0.96",
-            format!("{rms:.3}"),
-            (0.9..=1.05).contains(rms),
+        held += usize::from(medians[0] > medians[1]);
+        by_seed.push(format!(
+            "seed {seed}: main {:.1} h vs opp {:.1} h",
+            medians[0], medians[1]
         ));
     }
-    // Θ2 split vs the initial draw (seed): the first 4 h of ts-plane-2 for seeds 1–8. A split happens,
-    // if at all, in the saturated transient of the first 2 h (method page §11.2 met the same failure mode with
-    // k_z = k_A); this measures how often the defaults meet it.
+    Ok(format!(
+        "T2 large-C1 clause (median T̂_conn at 1 h larger for main) by seed, ts-connectable-large, first {hours:.0} h: {}; it holds on {held} of seeds {}–{}. The clause depends on the draw (T2's reference gives the earlier prototype's large-C1 ranges over its seeds).",
+        by_seed.join("; "),
+        SEEDS.start(),
+        SEEDS.end()
+    ))
+}
+
+/// Θ2 split vs the initial draw (seed): the first 4 h of ts-plane-2 for seeds 1–8. A split happens,
+/// if at all, in the saturated transient of the first 2 h (method page §11.2 met the same failure mode
+/// with k_z = k_A); this measures how often the defaults meet it.
+fn split_by_seed_note() -> Result<String, ValidateError> {
+    const SEEDS: std::ops::RangeInclusive<u64> = 1..=8;
+    let hours = 4.0;
     let mut sweep = Vec::new();
-    for seed in 1..=8u64 {
-        let mut s = scenario("ts-plane-2", None, Some(4.0 * 3600.0)).map_err(failed)?;
+    let mut split = 0;
+    for seed in SEEDS {
+        let mut s = scenario("ts-plane-2", None, Some(hours * 3600.0)).map_err(failed)?;
         s.file.seed = seed;
         let run = traced_run(&s, 3600.0, f64::INFINITY).map_err(failed)?;
         let g = run.law.get("grouping").cloned().unwrap_or_default();
         let split_h = g["first_disconnected_s"].as_f64().map(|t| t / 3600.0);
+        split += usize::from(split_h.is_some());
         sweep.push(format!(
-            "seed {seed}: {}, max|C1| {:.2} m, max|C4| {:.2} m at 4 h",
+            "seed {seed}: {}, max|C1| {:.2} m, max|C4| {:.2} m at {hours:.0} h",
             split_h.map_or("connected".into(), |h| format!("split at {h:.2} h")),
             number(&run.law["max_abs_c1_m"]),
             number(&run.law["max_abs_c4_m"]),
         ));
     }
-    notes.push(format!(
-        "Θ2 (ts-plane-2, defaults) by seed, first 4 h: {}. The split is two halves of about 50 satellites whose mean C1 differ by 0.4–0.5 m; once the grouping no longer links them, each half reaches its own C1 consensus and they drift apart at ε2·ΔC1 ≈ 5 m/h. Law, gains and grouping were checked line by line against the paper's Eqs. 8–16 and Algorithm 1 (our restatement: docs/methods/j2-distance.md §5–§9) and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
-        sweep.join("; ")
-    ));
-    // Paper claims (qualitative).
-    let p = |id: &str, claim: &str, ours: String, pass: bool| {
-        check(
-            id,
-            claim,
-            "reported qualitatively (figures unavailable)",
-            ours,
-            pass,
-        )
-    };
-    checks.push(p(
-        "P1",
-        "both laws drive C1, C4 (relative to S/C_ref) to the origin (§4.1)",
-        "see T1".into(),
-        t1_pass,
-    ));
-    checks.push(p(
-        "P2",
-        "large C1: main reduces C1 with consistent sign, opp increases some |C1| (§4.1)",
-        format!(
-            "sign changes main {:.2} vs opp {:.2}; growing |C1| main {:.2}, opp {:.2}",
-            ml.mean_sign_changes, ol.mean_sign_changes, ml.growing_fraction, ol.growing_fraction
-        ),
-        ml.mean_sign_changes <= 0.5 * ol.mean_sign_changes && ol.growing_fraction > 0.0,
-    ));
-    checks.push(p(
-        "P3",
-        "small C1: opp makes C1 grow and T̂_conn collapse; main keeps C1 decaying, larger T̂_conn (§4.1)",
-        "see T2".into(),
-        ms.median_tconn_1h_h >= 20.0 * os.median_tconn_1h_h && os.growing_fraction >= 0.85,
-    ));
-    let p4 = planes.iter().all(|(_, tp, tz, st, _, _)| {
-        (st.theta_p_deg.0 - tp).abs() < 1.0
-            && (st.theta_p_deg.1 - tp).abs() < 1.0
-            && (st.theta_zxy_deg.0 - tz).abs() < 1.5
-            && (st.theta_zxy_deg.1 - tz).abs() < 1.5
-    });
-    checks.push(p(
-        "P4",
-        "100 satellites reach the user-defined plane before 120 h, Θ1 and Θ2, truth J2 (§4.2)",
-        "see T6".into(),
-        p4,
-    ));
-    let p5 = planes
-        .iter()
-        .all(|(_, _, _, st, _, _)| st.max_c1_m < 1e-2 && st.max_c4_m < 0.1);
-    checks.push(p(
-        "P5",
-        "all C1, C4 → origin (concentric ellipses) under truth J2 (§4.2)",
-        format!(
-            "bounded residuals, not zero: max|C1| {:.1e} / {:.1e} m, max|C4| {:.1e} / {:.1e} m (Θ1 / Θ2)",
-            planes[0].3.max_c1_m, planes[1].3.max_c1_m, planes[0].3.max_c4_m, planes[1].3.max_c4_m
-        ),
-        p5,
-    ));
-    let p6 = planes
-        .iter()
-        .all(|(_, _, _, st, _, _)| (0.9..=1.05).contains(&st.edge_ratio[1]));
-    checks.push(p(
-        "P6",
-        "r_xy, r_z converge to constants near the desired distance; angles to targets (§4.2)",
-        "see T6, T7".into(),
-        p6 && p4,
-    ));
-    notes.push("P5: under truth J2 the measured C1 and C4 keep small forced residuals from the inexact Schweighart–Sedwick no-drift condition (docs/methods/j2-distance.md §3.5); the paper's figures, unavailable, claim convergence to the origin.".into());
-    // Outage experiment (method page §8), truth model.
+    Ok(format!(
+        "Θ2 (ts-plane-2, defaults) by seed, first {hours:.0} h: {}. The grouping graph splits on {split} of seeds {}–{}; a split is two halves that no longer share an edge, and once the grouping no longer links them each half reaches its own C1 consensus and they drift apart at ε2·ΔC1. Law, gains and grouping were checked line by line against the paper's Eqs. 8–16 and Algorithm 1 (our restatement: docs/methods/j2-distance.md §5–§9) and no error was found; the split also happens on the linear model, so it is not a truth-model effect.",
+        sweep.join("; "),
+        SEEDS.start(),
+        SEEDS.end()
+    ))
+}
+
+/// The outage experiment (method page §8), truth model: every link cut at 1 h, free drift to the end.
+fn outage_notes() -> Result<Vec<String>, ValidateError> {
+    let off_s = 3600.0;
+    let mut notes = Vec::new();
     for variant in [Variant::Main, Variant::Opp] {
         let s = scenario("ts-outage", Some(variant), None).map_err(failed)?;
-        let run = traced_run(&s, 60.0, 3600.0).map_err(failed)?;
-        let o = outage_stats(&run, origin, 3600.0, range_m);
+        let run = traced_run(&s, 60.0, off_s).map_err(failed)?;
+        let o = outage_stats(&run, ORIGIN, off_s, RANGE_M);
+        let drift_h = (run.times_s.last().copied().unwrap_or(off_s) - off_s) / 3600.0;
         notes.push(format!(
-            "Outage ({:?}, all links cut at 1 h, 23 h free drift under truth J2, {} satellites relative to S/C_ref): median predicted T̂_conn {:.1} h; predicted to leave r_s within 23 h: {}; centre measured to leave: {} (median |measured − T̂_conn| {:.2} h); distance measured to exceed r_s: {} (median measured − predicted T̲_out {:.2} h).",
-            variant, o.satellites, o.median_predicted_h, o.predicted_exits, o.measured_centre_exits,
+            "Outage ({:?}, all links cut at {:.0} h, {drift_h:.0} h free drift under truth J2, {} satellites relative to S/C_ref): median predicted T̂_conn {:.1} h; predicted to leave r_s within {drift_h:.0} h: {}; centre measured to leave: {} (median |measured − T̂_conn| {:.2} h); distance measured to exceed r_s: {} (median measured − predicted T̲_out {:.2} h).",
+            variant, off_s / 3600.0, o.satellites, o.median_predicted_h, o.predicted_exits, o.measured_centre_exits,
             o.median_centre_error_h, o.measured_distance_exits, o.median_distance_error_h
         ));
     }
+    Ok(notes)
+}
+
+/// The full reproduction report (two 120 h runs of 100 satellites under truth J2, four 24 h linear
+/// runs of 50, six 2 h linear runs of 50 for T2 by seed, eight 4 h Θ2 runs for the split by seed, two
+/// 24 h outage runs of 50 under truth J2; the wall time is in the saved measurement).
+pub fn report() -> Result<Report, ValidateError> {
+    let data = data()?;
+    // §4.1, linear model.
+    let conn = Connectable::run()?;
+    let mut checks = vec![
+        t1(data.outcome("T1")?, &conn)?,
+        t2(data.outcome("T2")?, &conn)?,
+        t3(data.outcome("T3")?, &conn)?,
+    ];
+    // §4.2, truth model, 120 h, then one free orbit.
+    let planes = [
+        Plane::run("Θ1", "ts-plane-1")?,
+        Plane::run("Θ2", "ts-plane-2")?,
+    ];
+    let mut by_id = BTreeMap::new();
+    for p in &planes {
+        let mut rows = vec![
+            t4(p.outcome(&data, "T4")?, p)?,
+            t5(p.outcome(&data, "T5")?, p)?,
+            t6(p.outcome(&data, "T6")?, p)?,
+            t7(p.outcome(&data, "T7")?, p)?,
+            t8(p.outcome(&data, "T8")?, p)?,
+            t9(p.outcome(&data, "T9")?, p)?,
+        ];
+        // T10 is judged on Θ1 only.
+        if let Ok(o) = p.outcome(&data, "T10") {
+            rows.push(t10(o, p)?);
+        }
+        rows.push(t11(p.outcome(&data, "T11")?, p)?);
+        for row in rows {
+            by_id.insert(row.id.clone(), row.clone());
+            checks.push(row);
+        }
+    }
+    let row = |id: &str| {
+        by_id
+            .get(id)
+            .ok_or_else(|| failed(format!("row {id} was not measured")))
+    };
+    let p1 = all_reproduced(data.outcome("P1")?, "see T1", &[&checks[0]]);
+    let p4 = all_reproduced(
+        data.outcome("P4")?,
+        "see T6",
+        &[row("T6 Θ1")?, row("T6 Θ2")?],
+    );
+    let p5 = p5(
+        data.outcome("P5")?,
+        &planes,
+        &[row("T5 Θ1")?, row("T5 Θ2")?],
+    );
+    let p6 = p6(data.outcome("P6")?, &data, &planes, &p4)?;
+    checks.extend([
+        p1,
+        p2(data.outcome("P2")?, &conn)?,
+        p3(data.outcome("P3")?, &conn)?,
+        p4,
+        p5,
+        p6,
+    ]);
+    let mut notes = vec![t2_by_seed_note()?, split_by_seed_note()?];
+    notes.push("P5: under truth J2 the measured C1 and C4 keep small forced residuals from the inexact Schweighart–Sedwick no-drift condition (docs/methods/j2-distance.md §3.5); the paper's figures, unavailable, claim convergence to the origin.".into());
+    notes.extend(outage_notes()?);
     Ok(Report {
         measured: None,
-        title: "Takahashi & Sakai (seed 002): distance-based relative orbital transition under J2"
-            .into(),
-        reference_header: "reference".into(),
+        title: data.title.clone(),
+        reference_header: "paper".into(),
         checks,
         tables: Vec::new(),
         notes,

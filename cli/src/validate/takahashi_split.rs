@@ -16,6 +16,7 @@
 
 use satflock::guidance::LawConfig;
 
+use super::data::{Outcome, PaperData};
 use super::takahashi::{scenario, traced_run};
 use super::{Check, Report, Table, ValidateError, Verdict};
 
@@ -25,11 +26,6 @@ pub const SEEDS: u64 = 20;
 /// Simulated time of every run \[s\] (the first 4 h of `ts-plane-2`; its grouping schedule keeps the
 /// scenario's 120 h end, so the grouping runs every 5 min as in the full run).
 pub const DURATION_S: f64 = 4.0 * 3600.0;
-
-/// The largest max|C₄| at the end of a run that counts as "the swarm stayed together" in check S3 \[m\]:
-/// fixed before the runs between the connected runs of `validate takahashi` (0.1–0.3 m at 4 h) and the
-/// split ones (11.6–14.8 m).
-pub const TOGETHER_C4_M: f64 = 1.0;
 
 /// Interval of the samples of C₁…C₆ behind [`SplitRun::peak_max_c4_m`] \[s\].
 pub const SAMPLE_S: f64 = 900.0;
@@ -152,100 +148,103 @@ fn seed_list(runs: &[&SplitRun]) -> String {
         .join(", ")
 }
 
-/// The report: 40 runs of 100 satellites under truth J2, 4 h each (about 2 s of CPU per run on
-/// one thread).
-pub fn report() -> Result<Report, ValidateError> {
-    let jobs: Vec<(u64, bool)> = [false, true]
-        .into_iter()
-        .flat_map(|preserve| (1..=SEEDS).map(move |seed| (seed, preserve)))
+/// The data file (`validation/takahashi-split.toml`).
+pub fn data() -> Result<PaperData, ValidateError> {
+    PaperData::of("takahashi-split").ok_or_else(|| failed("no validation/takahashi-split.toml"))?
+}
+
+/// The runs, by grouping.
+struct Groups<'a> {
+    /// The paper's grouping (Algorithm 1).
+    paper: Vec<&'a SplitRun>,
+    /// The connectivity-preserving grouping (extension).
+    kept: Vec<&'a SplitRun>,
+}
+
+/// First split times of the runs that split, as "lo–hi h".
+fn hours(rs: &[&SplitRun]) -> String {
+    let t: Vec<f64> = rs
+        .iter()
+        .filter_map(|r| r.first_split_s)
+        .map(|s| s / 3600.0)
         .collect();
-    let runs: Vec<SplitRun> = satflock::campaign::pool::run_bounded(
-        jobs,
-        rayon::current_num_threads(),
-        |(seed, preserve)| split_run(seed, preserve, DURATION_S),
-    )
-    .map_err(failed)?
-    .into_iter()
-    .collect::<Result<_, _>>()
-    .map_err(failed)?;
-    let (paper, kept): (Vec<&SplitRun>, Vec<&SplitRun>) =
-        runs.iter().partition(|r| !r.preserve_connectivity);
-    let (paper_split, kept_split) = (split(&paper), split(&kept));
-    let hours = |rs: &[&SplitRun]| -> String {
-        let t: Vec<f64> = rs
-            .iter()
-            .filter_map(|r| r.first_split_s)
-            .map(|s| s / 3600.0)
-            .collect();
-        match (
-            t.iter().copied().reduce(f64::min),
-            t.iter().copied().reduce(f64::max),
-        ) {
-            (Some(lo), Some(hi)) => format!("{lo:.2}–{hi:.2} h"),
-            _ => "—".into(),
-        }
-    };
-    let fraction = |k: usize, n: usize| format!("{k}/{n} = {:.2}", k as f64 / n as f64);
-    let c4 = |rs: &[&SplitRun]| rs.iter().map(|r| r.max_c4_m).collect::<Vec<_>>();
-    let max_c4_kept = c4(&kept).into_iter().fold(f64::NEG_INFINITY, f64::max);
-    let paper_1_8: Vec<&SplitRun> = paper_split
+    match (
+        t.iter().copied().reduce(f64::min),
+        t.iter().copied().reduce(f64::max),
+    ) {
+        (Some(lo), Some(hi)) => format!("{lo:.2}–{hi:.2} h"),
+        _ => "—".into(),
+    }
+}
+
+fn fraction(k: usize, n: usize) -> String {
+    format!("{k}/{n} = {:.2}", k as f64 / n as f64)
+}
+
+fn c4(rs: &[&SplitRun]) -> Vec<f64> {
+    rs.iter().map(|r| r.max_c4_m).collect()
+}
+
+fn largest(v: Vec<f64>) -> f64 {
+    v.into_iter().fold(f64::NEG_INFINITY, f64::max)
+}
+
+fn s1(o: &Outcome, g: &Groups) -> Result<Check, ValidateError> {
+    let up_to = o.value("compare_up_to_seed")?;
+    let expected: Vec<u64> = o
+        .values
+        .iter()
+        .filter(|(k, _)| k.starts_with("split_seed_"))
+        .map(|(_, v)| *v as u64)
+        .collect();
+    let paper_split = split(&g.paper);
+    let first: Vec<&SplitRun> = paper_split
         .iter()
         .copied()
-        .filter(|r| r.seed <= 8)
+        .filter(|r| r.seed as f64 <= up_to)
         .collect();
-    let checks = vec![
-        Check {
-            criterion: None,
-            id: "S1".into(),
-            outcome: format!(
-                "paper's grouping (Algorithm 1): the split of `validate takahashi` (seeds 5, 7, 8 of 1–8) recurs on the same seeds; split fraction over seeds 1–{SEEDS}, first {:.0} h",
-                DURATION_S / 3600.0
-            ),
-            paper: "validate takahashi: seeds 5, 7, 8 of 1–8 split at 1.67–1.75 h".into(),
-            ours: format!(
-                "seeds 1–8: {}; all seeds: {} split (seeds {}), first split at {}",
-                seed_list(&paper_1_8),
-                fraction(paper_split.len(), paper.len()),
-                seed_list(&paper_split),
-                hours(&paper_split)
-            ),
-            verdict: verdict(paper_1_8.iter().map(|r| r.seed).eq([5, 7, 8])),
-        },
-        Check {
-            criterion: None,
-            id: "S2".into(),
-            outcome: format!(
-                "connectivity-preserving grouping (extension, method page §9.6): no run splits within {:.0} h (it can only split where the 20 m link graph does)",
-                DURATION_S / 3600.0
-            ),
-            paper: "the extension's design goal".into(),
-            ours: format!(
-                "{} split (seeds {}); repairs in {} runs, {} updates and {} edges in total",
-                fraction(kept_split.len(), kept.len()),
-                seed_list(&kept_split),
-                kept.iter().filter(|r| r.repairs > 0).count(),
-                kept.iter().map(|r| r.repairs).sum::<u64>(),
-                kept.iter().map(|r| r.repair_edges).sum::<u64>()
-            ),
-            verdict: verdict(kept_split.is_empty()),
-        },
-        Check {
-            criterion: None,
-            id: "S3".into(),
-            outcome: format!(
-                "connectivity-preserving grouping: the swarm stays together, max|C4| relative to the reference satellite at {:.0} h < {TOGETHER_C4_M} m on every seed",
-                DURATION_S / 3600.0
-            ),
-            paper: "validate takahashi at 4 h: connected 0.13–0.33 m, split 11.6–14.8 m".into(),
-            ours: format!(
-                "largest {max_c4_kept:.2} m (median {:.2} m); paper's grouping: largest {:.2} m, median {:.2} m",
-                median(c4(&kept)),
-                c4(&paper).into_iter().fold(f64::NEG_INFINITY, f64::max),
-                median(c4(&paper))
-            ),
-            verdict: verdict(max_c4_kept < TOGETHER_C4_M),
-        },
-    ];
+    Ok(o.check(
+        format!(
+            "seeds 1–{up_to:.0}: {}; all seeds: {} split (seeds {}), first split at {}",
+            seed_list(&first),
+            fraction(paper_split.len(), g.paper.len()),
+            seed_list(&paper_split),
+            hours(&paper_split)
+        ),
+        verdict(first.iter().map(|r| r.seed).eq(expected)),
+    ))
+}
+
+fn s2(o: &Outcome, g: &Groups) -> Result<Check, ValidateError> {
+    let kept_split = split(&g.kept);
+    Ok(o.check(
+        format!(
+            "{} split (seeds {}); repairs in {} runs, {} updates and {} edges in total",
+            fraction(kept_split.len(), g.kept.len()),
+            seed_list(&kept_split),
+            g.kept.iter().filter(|r| r.repairs > 0).count(),
+            g.kept.iter().map(|r| r.repairs).sum::<u64>(),
+            g.kept.iter().map(|r| r.repair_edges).sum::<u64>()
+        ),
+        verdict(kept_split.len() as f64 <= o.value("max_split_runs")?),
+    ))
+}
+
+fn s3(o: &Outcome, g: &Groups) -> Result<Check, ValidateError> {
+    let max_c4_kept = largest(c4(&g.kept));
+    Ok(o.check(
+        format!(
+            "largest {max_c4_kept:.2} m (median {:.2} m); paper's grouping: largest {:.2} m, median {:.2} m",
+            median(c4(&g.kept)),
+            largest(c4(&g.paper)),
+            median(c4(&g.paper))
+        ),
+        verdict(max_c4_kept < o.value("max_c4_m")?),
+    ))
+}
+
+/// The summary table: one row per grouping.
+fn summary(g: &Groups) -> Table {
     let summary_row = |label: &str, rs: &[&SplitRun], parameter: &str| -> Vec<String> {
         let s = split(rs);
         vec![
@@ -267,25 +266,17 @@ pub fn report() -> Result<Report, ValidateError> {
             format!(
                 "{:.3} / {:.3}",
                 median(rs.iter().map(|r| r.max_c1_m).collect()),
-                rs.iter()
-                    .map(|r| r.max_c1_m)
-                    .fold(f64::NEG_INFINITY, f64::max)
+                largest(rs.iter().map(|r| r.max_c1_m).collect())
             ),
-            format!(
-                "{:.2} / {:.2}",
-                median(c4(rs)),
-                c4(rs).into_iter().fold(f64::NEG_INFINITY, f64::max)
-            ),
+            format!("{:.2} / {:.2}", median(c4(rs)), largest(c4(rs))),
             format!(
                 "{:.2} / {:.2}",
                 median(rs.iter().map(|r| r.peak_max_c4_m).collect()),
-                rs.iter()
-                    .map(|r| r.peak_max_c4_m)
-                    .fold(f64::NEG_INFINITY, f64::max)
+                largest(rs.iter().map(|r| r.peak_max_c4_m).collect())
             ),
         ]
     };
-    let summary = Table {
+    Table {
         title: format!(
             "Θ2 split fraction, ts-plane-2, seeds 1–{SEEDS}, first {:.0} h (split: grouping graph not connected at some update)",
             DURATION_S / 3600.0
@@ -311,17 +302,21 @@ pub fn report() -> Result<Report, ValidateError> {
         rows: vec![
             summary_row(
                 "paper (Algorithm 1)",
-                &paper,
+                &g.paper,
                 "preserve_connectivity absent (false)",
             ),
             summary_row(
                 "connectivity-preserving (extension)",
-                &kept,
+                &g.kept,
                 "preserve_connectivity = true",
             ),
         ],
-    };
-    let per_seed = Table {
+    }
+}
+
+/// The per-seed table.
+fn per_seed(g: &Groups) -> Table {
+    Table {
         title: "By seed".into(),
         header: [
             "seed",
@@ -333,9 +328,10 @@ pub fn report() -> Result<Report, ValidateError> {
         ]
         .map(String::from)
         .to_vec(),
-        rows: paper
+        rows: g
+            .paper
             .iter()
-            .zip(&kept)
+            .zip(&g.kept)
             .map(|(p, k)| {
                 vec![
                     p.seed.to_string(),
@@ -348,18 +344,47 @@ pub fn report() -> Result<Report, ValidateError> {
                 ]
             })
             .collect(),
-    };
+    }
+}
+
+/// The report: 40 runs of 100 satellites under truth J2, 4 h each (about 2 s of CPU per run on
+/// one thread; the wall time is in the saved measurement).
+pub fn report() -> Result<Report, ValidateError> {
+    let data = data()?;
+    let jobs: Vec<(u64, bool)> = [false, true]
+        .into_iter()
+        .flat_map(|preserve| (1..=SEEDS).map(move |seed| (seed, preserve)))
+        .collect();
+    let runs: Vec<SplitRun> = satflock::campaign::pool::run_bounded(
+        jobs,
+        rayon::current_num_threads(),
+        |(seed, preserve)| split_run(seed, preserve, DURATION_S),
+    )
+    .map_err(failed)?
+    .into_iter()
+    .collect::<Result<_, _>>()
+    .map_err(failed)?;
+    let (paper, kept): (Vec<&SplitRun>, Vec<&SplitRun>) =
+        runs.iter().partition(|r| !r.preserve_connectivity);
+    let g = Groups { paper, kept };
+    let checks = vec![
+        s1(data.outcome("S1")?, &g)?,
+        s2(data.outcome("S2")?, &g)?,
+        s3(data.outcome("S3")?, &g)?,
+    ];
+    let satellites = scenario("ts-plane-2", None, None)
+        .and_then(|s| s.prepare().map_err(|e| e.to_string()))
+        .map_err(failed)?
+        .satellites
+        .len();
     Ok(Report {
         measured: None,
-        title: format!(
-            "Takahashi & Sakai Θ2 split: paper's grouping vs connectivity-preserving grouping ({} runs)",
-            runs.len()
-        ),
-        reference_header: "reference".into(),
+        title: data.title.clone(),
+        reference_header: "paper".into(),
         checks,
-        tables: vec![summary, per_seed],
+        tables: vec![summary(&g), per_seed(&g)],
         notes: vec![format!(
-            "Runs: ts-plane-2 (100 satellites, truth J2, defaults of docs/methods/j2-distance.md §10), duration_s = {DURATION_S}, seeds 1–{SEEDS}, each grouping; {} runs through satflock::campaign::pool::run_bounded, each on one thread. A run splits if its grouping graph over the live satellites has more than one connected component at some grouping update (summary.json: law.grouping.max_components > 1). The same runs as a campaign: campaigns/ts-plane-2-split.toml and campaigns/ts-plane-2-split-preserving.toml.",
+            "Runs: ts-plane-2 ({satellites} satellites, truth J2, defaults of docs/methods/j2-distance.md §10), duration_s = {DURATION_S}, seeds 1–{SEEDS}, each grouping; {} runs through satflock::campaign::pool::run_bounded, each on one thread. A run splits if its grouping graph over the live satellites has more than one connected component at some grouping update (summary.json: law.grouping.max_components > 1). The same runs as a campaign: campaigns/ts-plane-2-split.toml and campaigns/ts-plane-2-split-preserving.toml.",
             runs.len()
         )],
     })
