@@ -32,6 +32,11 @@ const FILES: &[(&str, &str, &str)] = &[
         "validation/takahashi-split.toml",
         include_str!("../../../validation/takahashi-split.toml"),
     ),
+    (
+        "gao",
+        "validation/gao.toml",
+        include_str!("../../../validation/gao.toml"),
+    ),
 ];
 
 /// When an acceptance criterion was set.
