@@ -58,7 +58,7 @@ pub fn data() -> Result<PaperData, ValidateError> {
 /// es-e3b has the same values. `validate scatter` runs the same values (table "S3 dock sweep").
 const DOCK_SWEEP_CAMPAIGN: &str = include_str!("../../../campaigns/es-s3-dock-sweep.toml");
 
-/// The d values \[1/s\] of [`DOCK_SWEEP_CAMPAIGN`].
+/// The d values \[1/s\] of `campaigns/es-s3-dock-sweep.toml`.
 pub fn dock_sweep_per_s() -> Result<Vec<f64>, ValidateError> {
     let doc: toml::Table = toml::from_str(DOCK_SWEEP_CAMPAIGN).map_err(failed)?;
     doc.get("vary")
