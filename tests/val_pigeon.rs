@@ -140,6 +140,7 @@ fn satellites() -> Vec<SatelliteInit> {
             properties: PhysicalProperties::point_mass(10.0),
             radius_m: 0.5,
             actuator: Actuator::new(LIMIT_M_S2, LimitKind::PerAxis),
+            drag_attitudes: None,
         })
         .collect()
 }
@@ -717,10 +718,11 @@ fn val_initial_link_graph_warning_names_satellite_0_at_120_m_and_is_silent_at_13
     assert!(above.warnings.is_empty(), "{:?}", above.warnings);
     let below = switching_builtin(|p| p.egalitarian_range_m = 10.0 + by_hand - 0.01);
     assert_eq!(below.warnings.len(), 1);
-    // Switching off: not checked (the load-time check covers the law with pattern switching).
+    // Switching off: checked too (without switching every satellite uses the egalitarian links all
+    // the time).
     let off = switching_builtin(|p| {
         p.egalitarian_range_m = 120.0;
         p.switching = false;
     });
-    assert!(off.warnings.is_empty(), "{:?}", off.warnings);
+    assert_eq!(off.warnings.len(), 1, "{:?}", off.warnings);
 }
