@@ -345,6 +345,7 @@ fn sats(positions_hill_m: &[[f64; 3]], velocity: [f64; 3]) -> Vec<SatelliteInit>
             properties: PhysicalProperties::point_mass(100.0),
             radius_m: 0.0,
             actuator: Actuator::new(f64::INFINITY, LimitKind::Norm),
+            drag_attitudes: None,
         })
         .collect()
 }

@@ -461,6 +461,7 @@ fn satellites(states: &[RelativeStateHill], actuator: Actuator) -> Vec<Satellite
             properties: PhysicalProperties::point_mass(7.0),
             radius_m: 0.1,
             actuator,
+            drag_attitudes: None,
         })
         .collect()
 }

@@ -80,6 +80,7 @@ fn satellites(states: &[RelativeStateHill]) -> Vec<SatelliteInit> {
             properties: PhysicalProperties::point_mass(10.0),
             radius_m: 0.1,
             actuator: Actuator::new(f64::INFINITY, LimitKind::Norm),
+            drag_attitudes: None,
         })
         .collect()
 }

@@ -75,6 +75,7 @@ const COUNT_COLUMNS: &[&str] = &[
     "id",
     "threat_incursions",
     "obstacle_incursions",
+    "drag_switches",
 ];
 
 /// Columns whose vector components are in the inertial frame besides the `*_eme2000_*` ones: the five
@@ -101,6 +102,7 @@ const UNIT_SUFFIXES: &[(&str, &str)] = &[
     ("m", "m"),
     ("mps", "m/s"),
     ("mps2", "m/s^2"),
+    ("m2", "m^2"),
     ("s", "s"),
     ("h", "h"),
     ("deg", "deg"),
@@ -187,7 +189,15 @@ pub struct OutputColumns {
     pub law_metrics: Vec<&'static str>,
     /// Per-satellite law output columns of `trajectory`.
     pub law_outputs: Vec<&'static str>,
+    /// Whether a satellite has drag attitudes: the drag area of every satellite in `trajectory`
+    /// ([`DRAG_TRAJECTORY_COLUMN`]) and the drag changes so far in `metrics` ([`DRAG_METRIC_COLUMN`]).
+    pub drag: bool,
 }
+
+/// The `trajectory` column of the drag area of each satellite \[m^2\] (runs with drag attitudes).
+pub const DRAG_TRAJECTORY_COLUMN: &str = "drag_area_m2";
+/// The `metrics` column of the drag-area changes of every satellite so far (runs with drag attitudes).
+pub const DRAG_METRIC_COLUMN: &str = "drag_switches";
 
 impl OutputColumns {
     /// The columns of a simulation's tables: threat and obstacle monitors where its scenario has
@@ -198,6 +208,7 @@ impl OutputColumns {
             obstacles: !simulation.config().obstacles.is_empty(),
             law_metrics: simulation.law_metric_names(),
             law_outputs: simulation.law_output_names(),
+            drag: simulation.drag_areas_m2().is_some(),
         }
     }
 
@@ -210,6 +221,9 @@ impl OutputColumns {
         if self.obstacles {
             names.extend_from_slice(OBSTACLE_COLUMNS);
         }
+        if self.drag {
+            names.push(DRAG_METRIC_COLUMN);
+        }
         names.extend_from_slice(&self.law_metrics);
         names.into_iter().map(Column::new).collect()
     }
@@ -218,6 +232,7 @@ impl OutputColumns {
     pub fn trajectory(&self) -> Vec<Column> {
         TRAJECTORY_HEADER
             .iter()
+            .chain(self.drag.then_some(&DRAG_TRAJECTORY_COLUMN))
             .chain(&self.law_outputs)
             .map(|n| Column::new(n))
             .collect()
@@ -288,6 +303,9 @@ impl Record {
             m.push(env.min_obstacle_clearance_m.unwrap_or(f64::NAN));
             m.push(env.obstacle_incursions as f64);
         }
+        if columns.drag {
+            m.push(s.drag_switches as f64);
+        }
         // Law metrics: a value where the running law has the column, NaN where it does not.
         for column in &columns.law_metrics {
             m.push(
@@ -299,7 +317,8 @@ impl Record {
         }
 
         self.trajectory.clear();
-        self.trajectory_width = TRAJECTORY_HEADER.len() - 2 + columns.law_outputs.len();
+        self.trajectory_width =
+            TRAJECTORY_HEADER.len() - 2 + usize::from(columns.drag) + columns.law_outputs.len();
         if !with_trajectory {
             return;
         }
@@ -324,6 +343,9 @@ impl Record {
                     .chain(e.velocity_mps.iter()),
             );
             t.push(s.delta_v_mps[i]);
+            if columns.drag {
+                t.push(s.drag_areas_m2.get(i).copied().unwrap_or(f64::NAN));
+            }
             t.extend(
                 outputs
                     .iter()
@@ -349,6 +371,7 @@ mod tests {
             obstacles: false,
             law_metrics: vec!["ts_min_connectable_time_h", "ts_theta_p_min_deg"],
             law_outputs: vec!["es_mode"],
+            drag: true,
         };
         let metrics = columns.metrics();
         let find = |cs: &[Column], name: &str| *cs.iter().find(|c| c.name == name).unwrap();
@@ -372,6 +395,8 @@ mod tests {
         assert_eq!(find(&metrics, "uniformity_l").unit(), "1");
         assert_eq!(find(&metrics, "ts_min_connectable_time_h").unit(), "h");
         assert_eq!(find(&metrics, "ts_theta_p_min_deg").unit(), "deg");
-        assert_eq!(metrics.len(), METRICS_HEADER.len() + 2 + 2);
+        assert_eq!(find(&t, "drag_area_m2").unit(), "m^2");
+        assert_eq!(find(&metrics, "drag_switches").kind, ColumnKind::Count);
+        assert_eq!(metrics.len(), METRICS_HEADER.len() + 2 + 1 + 2);
     }
 }

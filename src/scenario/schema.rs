@@ -260,6 +260,16 @@ pub struct SatellitesSection {
     pub srp_area_m2: Option<PerSatellite>,
     /// Reflectivity coefficient C_r of each satellite (default 1.5 when SRP acts).
     pub reflectivity_coefficient: Option<PerSatellite>,
+    /// Named drag modes (attitudes) a law may command, name → drag area \[m^2\] (1 to 4 modes, e.g.
+    /// `{ low = 0.01, high = 0.035 }`); needs drag in `[dynamics.forces]`. The initial area
+    /// (`drag_area_m2`) must be one of them (default: the smallest).
+    #[serde(default)]
+    pub drag_modes_m2: Option<std::collections::BTreeMap<String, f64>>,
+    /// Instead of modes, a continuous range of drag areas `[min, max]` \[m^2\] a law may command.
+    pub drag_area_range_m2: Option<[f64; 2]>,
+    /// Shortest time between two changes of a satellite's drag area \[s\] (absent: none beyond one
+    /// control tick; if given, at least one tick).
+    pub drag_min_dwell_s: Option<f64>,
     /// Initial relative states.
     pub initial: InitialSection,
     /// Per-satellite overrides (heterogeneous clusters).

@@ -17,12 +17,13 @@ use crate::relative::{Hcw, SchweighartSedwick};
 use crate::scenario::initial;
 use crate::scenario::schema::{
     ActionSection, AxisName, ControlMode, InitialSection, ListFrame, ModelName, ObstacleSection,
-    OriginName, PerSatellite, SelectionSection, ThreatSection,
+    OriginName, PerSatellite, SatellitesSection, SelectionSection, ThreatSection,
 };
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
-    check_law_fits, Actuator, ControlTiming, DynamicsModel, Event, EventAction, Law, Origin,
-    SatelliteInit, Selection, Sensing, SimError, SimulationConfig, SwarmFacts, ThrustAxis,
+    check_law_fits, Actuator, ControlTiming, DragAttitudes, DynamicsModel, Event, EventAction, Law,
+    Origin, SatelliteInit, Selection, Sensing, SimError, SimulationConfig, SwarmFacts, ThrustAxis,
+    MAX_DRAG_MODES,
 };
 
 /// Largest run (satellites × base steps) accepted without `[output] allow_large = true`: about an hour of
@@ -454,7 +455,34 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     let forces = dynamics.forces();
     let drag = forces.is_some_and(|f| f.uses_drag_properties());
     let srp = forces.is_some_and(|f| f.uses_srp_properties());
-    let drag_areas = per_satellite(&c, "drag_area_m2", &s.drag_area_m2, drag, None, count)?;
+    let tick_s = match control {
+        ControlTiming::Sampled { period_s } => period_s.min(step_s),
+        ControlTiming::Continuous => step_s,
+    };
+    let drag_attitudes = drag_attitudes(&c, s, drag, tick_s)?;
+    let drag_areas = per_satellite(
+        &c,
+        "drag_area_m2",
+        &s.drag_area_m2,
+        drag,
+        drag_attitudes.map(|a| a.min_area_m2()),
+        count,
+    )?;
+    if let Some(attitudes) = &drag_attitudes {
+        if let Some((id, area)) = drag_areas
+            .iter()
+            .enumerate()
+            .find(|(_, a)| !attitudes.admits(**a))
+        {
+            return Err(c.invalid(
+                "satellites.drag_area_m2",
+                format!(
+                    "{area} m^2 (satellite {id}) is not one of the drag attitudes (allowed: {})",
+                    attitudes.describe()
+                ),
+            ));
+        }
+    }
     let drag_coefficients = per_satellite(
         &c,
         "drag_coefficient",
@@ -521,6 +549,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             },
             radius_m,
             actuator: Actuator::new(max_accel, s.accel_limit),
+            drag_attitudes,
         })
         .collect();
     for (k, o) in s.overrides.iter().enumerate() {
@@ -1222,6 +1251,63 @@ fn unused_property(c: &Checker<'_>, key: &str) -> ScenarioError {
 /// One value per satellite of the `[satellites]` property `name`: a scalar for all, or a list of
 /// `count`. Required (`default` None) or defaulted when a force model reads it (`used`); refused when
 /// none does; 0 when absent and unused.
+/// The satellites' drag attitudes (`drag_modes_m2` or `drag_area_range_m2`, with `drag_min_dwell_s`):
+/// refused without drag in the force set, both at once, or a dwell shorter than one control tick.
+fn drag_attitudes(
+    c: &Checker<'_>,
+    s: &SatellitesSection,
+    drag: bool,
+    tick_s: f64,
+) -> Result<Option<DragAttitudes>, ScenarioError> {
+    let dwell = |key: &str| -> Result<f64, ScenarioError> {
+        if !drag {
+            return Err(unused_property(c, key));
+        }
+        match s.drag_min_dwell_s {
+            None => Ok(0.0),
+            Some(d) if d.is_finite() && d >= tick_s => Ok(d),
+            Some(d) => Err(c.invalid(
+                "satellites.drag_min_dwell_s",
+                format!(
+                    "{d} s is shorter than one control tick (allowed: >= {tick_s} s, finite: the \
+                     area can change only at a tick)"
+                ),
+            )),
+        }
+    };
+    let allowed = format!(
+        "allowed: 1 to {MAX_DRAG_MODES} distinct areas > 0 m^2, or [min, max] with 0 < min < max"
+    );
+    let (key, built) =
+        match (&s.drag_modes_m2, s.drag_area_range_m2) {
+            (Some(_), Some(_)) => return Err(c.invalid(
+                "satellites.drag_area_range_m2",
+                "cannot be given with satellites.drag_modes_m2 (allowed: named modes or a range)",
+            )),
+            (Some(modes), None) => {
+                let key = "satellites.drag_modes_m2";
+                let areas: Vec<f64> = modes.values().copied().collect();
+                (key, DragAttitudes::modes(&areas, dwell(key)?))
+            }
+            (None, Some([min, max])) => {
+                let key = "satellites.drag_area_range_m2";
+                (key, DragAttitudes::range(min, max, dwell(key)?))
+            }
+            (None, None) => {
+                if s.drag_min_dwell_s.is_some() {
+                    return Err(c.invalid(
+                    "satellites.drag_min_dwell_s",
+                    "applies only with satellites.drag_modes_m2 or satellites.drag_area_range_m2",
+                ));
+                }
+                return Ok(None);
+            }
+        };
+    built
+        .map(Some)
+        .map_err(|e| c.invalid(key, format!("{e} ({allowed})")))
+}
+
 fn per_satellite(
     c: &Checker<'_>,
     name: &str,

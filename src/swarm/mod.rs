@@ -11,6 +11,7 @@
 const CHUNK: usize = 256;
 
 mod actuator;
+mod drag_attitude;
 mod dynamics;
 mod events;
 mod law;
@@ -20,6 +21,7 @@ mod state;
 mod storage_order;
 
 pub use actuator::{Actuator, LimitKind};
+pub use drag_attitude::{DragAttitudeError, DragAttitudes, DragCommand, MAX_DRAG_MODES};
 pub use dynamics::DynamicsModel;
 pub use events::{Event, EventAction, Selection, ThrustAxis};
 pub use law::{

@@ -35,6 +35,10 @@ pub struct Snapshot<'a> {
     pub law_outputs: &'a [f64],
     /// The threat and obstacle monitors so far.
     pub environment: EnvironmentSnapshot,
+    /// Drag area of every satellite \[m^2\], by id (empty when no satellite has drag attitudes).
+    pub drag_areas_m2: &'a [f64],
+    /// Drag-area changes of every satellite so far, summed.
+    pub drag_switches: u64,
 }
 
 /// The continuous threat and obstacle monitors from the start of the run to a recording time.

@@ -25,7 +25,7 @@ use super::{
     SwarmFacts, SwarmView,
 };
 use crate::swarm::storage_order::{permute, Placement};
-use crate::swarm::{Actuator, CHUNK};
+use crate::swarm::{Actuator, DragCommand, CHUNK};
 
 /// Satellites whose own data a pass copies out together before evaluating them (loads by storage index, scattered
 /// in memory on a large swarm, issued back to back so they overlap).
@@ -118,6 +118,7 @@ trait ErasedLaw: Send + Sync {
         applied_by_slot: &mut [Vector3<f64>],
     ) -> bool;
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
+    fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool;
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError>;
     fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>);
     fn record_metrics(
@@ -314,6 +315,17 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
             .command(satellite, &self.current[satellite.index()], context)
     }
 
+    fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool {
+        if !self.law.commands_drag() || out.len() != self.current.len() {
+            return false;
+        }
+        out.par_iter_mut()
+            .with_min_len(CHUNK)
+            .zip(&self.current)
+            .for_each(|(o, state)| *o = self.law.drag_command(state));
+        true
+    }
+
     fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError> {
         let typed =
             parameters
@@ -411,6 +423,12 @@ impl Law {
     /// What the law commands.
     pub fn command_kind(&self) -> CommandKind {
         self.0.command_kind()
+    }
+
+    /// Every satellite's drag command from its current state ([`GuidanceLaw::drag_command`]), by
+    /// storage index, into `out`; `false` (and `out` untouched) for a law that does not command drag.
+    pub(crate) fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool {
+        self.0.drag_commands(out)
     }
 
     /// See [`GuidanceLaw::check_swarm`].

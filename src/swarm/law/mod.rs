@@ -32,6 +32,8 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use thiserror::Error;
 
+use crate::swarm::DragCommand;
+
 pub use context::LawContext;
 pub(crate) use handle::{own_batch, TickEvaluation, OWN_BATCH};
 pub use handle::{Law, LawParameters};
@@ -156,6 +158,21 @@ pub trait GuidanceLaw: Send + Sync + 'static {
         state: &Self::State,
         context: &LawContext,
     ) -> Vector3<f64>;
+
+    /// Whether the law commands drag ([`GuidanceLaw::drag_command`]). Default: no.
+    fn commands_drag(&self) -> bool {
+        false
+    }
+
+    /// The drag command of one satellite, from its state after this tick's update (the law decides its
+    /// drag mode in [`GuidanceLaw::update_state`], where it keeps whatever memory the decision needs):
+    /// `None` keeps the current area. The engine applies it to a satellite with drag attitudes, holds it
+    /// to the next tick and keeps a mode at least the satellite's minimum dwell; a command the satellite
+    /// cannot present stops the run. Read only when [`GuidanceLaw::commands_drag`] is `true`. Default:
+    /// `None`.
+    fn drag_command(&self, _state: &Self::State) -> Option<DragCommand> {
+        None
+    }
 
     /// Replaces the parameters (an event of the timeline; the scenario layer has merged the event's keys
     /// with the current values and validated the result).

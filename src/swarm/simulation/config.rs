@@ -128,6 +128,9 @@ pub struct SatelliteInit {
     pub radius_m: f64,
     /// Thrusters.
     pub actuator: Actuator,
+    /// The drag areas a law may command (`None`: the drag area stays `properties.drag_area_m2`). The
+    /// initial area must be one of them.
+    pub drag_attitudes: Option<crate::swarm::DragAttitudes>,
 }
 
 /// What a divergence check saw.
@@ -342,6 +345,34 @@ pub enum SimError {
         /// The command after the actuator's failed axes, Hill frame \[m/s^2\] (\[m/s\] kinematic).
         command: [f64; 3],
     },
+    /// A satellite's initial drag area is not one of its drag attitudes, or drag attitudes were given
+    /// without a force set that computes drag.
+    #[error("satellite {satellite}: {reason}")]
+    DragAttitudes {
+        /// Id of the satellite.
+        satellite: usize,
+        /// What is wrong and what is allowed.
+        reason: String,
+    },
+    /// The law commanded a drag mode the satellite does not have, or a non-finite area.
+    #[error(
+        "law `{law}` commanded satellite {satellite} the drag {command} at tick {tick} (t = {time_s} s), \
+         which it cannot present (allowed: {allowed})"
+    )]
+    BadDragCommand {
+        /// Id of the satellite.
+        satellite: usize,
+        /// The control tick.
+        tick: u64,
+        /// Time of the tick \[s\].
+        time_s: f64,
+        /// The law's name.
+        law: String,
+        /// The command, as text.
+        command: String,
+        /// The satellite's modes or range, as text.
+        allowed: String,
+    },
     /// The integrator failed (step-size underflow, non-finite derivative).
     #[error("integration failed: {0}")]
     Integration(#[from] IntegrateError),
@@ -377,6 +408,7 @@ impl SimError {
                 | SimError::CommandKindMismatch { .. }
                 | SimError::ProcessNoise { .. }
                 | SimError::ForcesEarth { .. }
+                | SimError::DragAttitudes { .. }
         )
     }
 }

@@ -133,6 +133,9 @@ pub struct Simulation {
     noise: HeldNoise,
     /// The tick's sensing buffers (navigation states and grid).
     sensed: Sensed,
+    /// The law's drag commands of the tick, by storage index (empty when no satellite has drag
+    /// attitudes).
+    drag_commands: Vec<Option<crate::swarm::DragCommand>>,
     /// The truth monitors' buffers: separation, threat approach and obstacle clearance.
     monitors: Monitors,
     integration: Integration,
@@ -183,6 +186,7 @@ impl Simulation {
             }
         }
         check_events(&events, &config, n)?;
+        check_drag_attitudes(&config, satellites)?;
         if config.process_noise_m_s2 != 0.0
             && (matches!(config.dynamics, DynamicsModel::Kinematic)
                 || !(config.process_noise_m_s2 > 0.0 && config.process_noise_m_s2.is_finite()))
@@ -280,6 +284,11 @@ impl Simulation {
                 },
             },
             sensed: Sensed::new(n),
+            drag_commands: if satellites.iter().any(|s| s.drag_attitudes.is_some()) {
+                vec![None; n]
+            } else {
+                Vec::new()
+            },
             monitors: Monitors {
                 live: LiveMetrics::new(n),
                 approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
@@ -312,6 +321,25 @@ impl Simulation {
     /// The configuration.
     pub fn config(&self) -> &SimulationConfig {
         &self.config
+    }
+
+    /// Every satellite's drag area now \[m^2\], by id, when a satellite has drag attitudes (a law may
+    /// command it); `None` otherwise.
+    pub fn drag_areas_m2(&self) -> Option<Vec<f64>> {
+        let fleet = &self.satellites.fleet;
+        fleet.drag_attitudes.iter().any(Option::is_some).then(|| {
+            (0..fleet.active.len())
+                .map(|id| fleet.drag_area_m2(fleet.order.index_of(id)))
+                .collect()
+        })
+    }
+
+    /// How many times each satellite's drag area changed, by id.
+    pub fn drag_switches(&self) -> Vec<u64> {
+        self.satellites
+            .fleet
+            .order
+            .by_id(&self.satellites.drag_switches)
     }
 
     /// Current time, seconds since the scenario start \[s\].
@@ -565,4 +593,38 @@ fn reference_model(
         config.earth.equatorial_radius_m,
         j2,
     )
+}
+
+/// Refuses drag attitudes whose initial area is not one of them, and drag attitudes under dynamics whose
+/// force set computes no drag (a commanded area would change nothing).
+fn check_drag_attitudes(
+    config: &SimulationConfig,
+    satellites: &[SatelliteInit],
+) -> Result<(), SimError> {
+    let drag = config.dynamics.forces().is_some_and(|f| f.drag().is_some());
+    for (id, s) in satellites.iter().enumerate() {
+        let Some(attitudes) = &s.drag_attitudes else {
+            continue;
+        };
+        if !drag {
+            return Err(SimError::DragAttitudes {
+                satellite: id,
+                reason: format!(
+                    "drag attitudes need a force set with drag (dynamics `{}` has none)",
+                    config.dynamics.name()
+                ),
+            });
+        }
+        if !attitudes.admits(s.properties.drag_area_m2) {
+            return Err(SimError::DragAttitudes {
+                satellite: id,
+                reason: format!(
+                    "initial drag area {} m^2 is not one of its drag attitudes (allowed: {})",
+                    s.properties.drag_area_m2,
+                    attitudes.describe()
+                ),
+            });
+        }
+    }
+    Ok(())
 }

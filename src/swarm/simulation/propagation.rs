@@ -389,6 +389,7 @@ mod tests {
             surfaces: properties.iter().map(Surfaces::of).collect(),
             radii_m: vec![0.0; n],
             actuators: vec![Actuator::new(f64::INFINITY, crate::swarm::LimitKind::Norm); n],
+            drag_attitudes: vec![None; n],
             active,
             links_up: vec![true; n],
             order: StorageOrder::identity(n),

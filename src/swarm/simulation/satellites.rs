@@ -1,6 +1,7 @@
-//! The engine's one per-satellite table ([`Satellites`]): what changes only through events (the
-//! [`Fleet`]: masses and physical properties, radii, actuators, flags, the storage order) and what the
-//! run loop rewrites (truth relative states, applied and held commands), every column in the engine's
+//! The engine's one per-satellite table ([`Satellites`]): what changes only through events and drag
+//! commands (the [`Fleet`]: masses and physical properties, radii, actuators, drag attitudes, flags,
+//! the storage order) and what the run loop rewrites (truth relative states, applied and held commands,
+//! the drag-mode bookkeeping), every column in the engine's
 //! storage order, permuted as a whole by the storage re-sort ([`Satellites::permute`], whose exhaustive
 //! destructuring makes a new column fail to compile until it is permuted too). Read by id through
 //! [`Fleet::order`].
@@ -10,6 +11,7 @@ use nalgebra::Vector3;
 use crate::dynamics::PhysicalProperties;
 use crate::orbit::RelativeStateHill;
 use crate::swarm::actuator::Actuator;
+use crate::swarm::drag_attitude::DragAttitudes;
 use crate::swarm::simulation::config::SatelliteInit;
 use crate::swarm::storage_order::{permute, StorageOrder};
 
@@ -20,6 +22,8 @@ pub(in crate::swarm::simulation) struct Fleet {
     pub surfaces: Vec<Surfaces>,
     pub radii_m: Vec<f64>,
     pub actuators: Vec<Actuator>,
+    /// The drag areas a law may command (`None`: fixed area).
+    pub drag_attitudes: Vec<Option<DragAttitudes>>,
     /// `false` once a satellite is removed.
     pub active: Vec<bool>,
     /// `false` while a satellite's links are cut.
@@ -50,6 +54,18 @@ impl Surfaces {
 }
 
 impl Fleet {
+    /// The drag area of the satellite at storage index `index` \[m^2\].
+    #[inline]
+    pub fn drag_area_m2(&self, index: usize) -> f64 {
+        self.surfaces[index].drag_area_m2
+    }
+
+    /// Sets the drag area of the satellite at storage index `index` \[m^2\] (a drag command).
+    #[inline]
+    pub fn set_drag_area_m2(&mut self, index: usize, area_m2: f64) {
+        self.surfaces[index].drag_area_m2 = area_m2;
+    }
+
     /// The physical properties of the satellite at storage index `index`.
     #[inline]
     pub fn properties(&self, index: usize) -> PhysicalProperties {
@@ -76,6 +92,7 @@ impl Fleet {
                 .collect(),
             radii_m: satellites.iter().map(|s| s.radius_m).collect(),
             actuators: satellites.iter().map(|s| s.actuator).collect(),
+            drag_attitudes: satellites.iter().map(|s| s.drag_attitudes).collect(),
             active: vec![true; n],
             links_up: vec![true; n],
             order: StorageOrder::identity(n),
@@ -94,6 +111,10 @@ pub(in crate::swarm::simulation) struct Satellites {
     pub applied_hill: Vec<Vector3<f64>>,
     /// Held command in the dynamics frame (ECI or Hill), sampled mode, process noise included.
     pub held_control: Vec<Vector3<f64>>,
+    /// When each satellite's drag area last changed \[s\] (−∞: never), for the minimum dwell.
+    pub drag_changed_s: Vec<f64>,
+    /// How many times each satellite's drag area changed.
+    pub drag_switches: Vec<u64>,
 }
 
 impl Satellites {
@@ -105,6 +126,8 @@ impl Satellites {
             truth: vec![RelativeStateHill::default(); n],
             applied_hill: vec![Vector3::zeros(); n],
             held_control: vec![Vector3::zeros(); n],
+            drag_changed_s: vec![f64::NEG_INFINITY; n],
+            drag_switches: vec![0; n],
         }
     }
 
@@ -118,6 +141,7 @@ impl Satellites {
                     surfaces,
                     radii_m,
                     actuators,
+                    drag_attitudes,
                     active,
                     links_up,
                     order,
@@ -125,11 +149,16 @@ impl Satellites {
             truth,
             applied_hill,
             held_control,
+            drag_changed_s,
+            drag_switches,
         } = self;
         permute(masses_kg, moves, visited);
         permute(surfaces, moves, visited);
         permute(radii_m, moves, visited);
         permute(actuators, moves, visited);
+        permute(drag_attitudes, moves, visited);
+        permute(drag_changed_s, moves, visited);
+        permute(drag_switches, moves, visited);
         permute(active, moves, visited);
         permute(links_up, moves, visited);
         permute(truth, moves, visited);

@@ -16,6 +16,7 @@ use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::recorder::Recorder;
 use crate::swarm::simulation::monitors::check_commands;
 use crate::swarm::simulation::propagation::{CoupledSwarm, SampledSegment};
+use crate::swarm::simulation::satellites::Satellites;
 use crate::swarm::simulation::sensing::{Plant, CHUNK};
 use crate::swarm::simulation::{Integration, RunTotals, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::satellite_index;
@@ -325,12 +326,56 @@ impl Simulation {
                 t0,
             )?;
         }
+        if stateful {
+            self.apply_drag_commands(t0, tick)?;
+        }
         self.timings.law_s += clock.elapsed().as_secs_f64();
         if kinematic {
             // The velocity state is the command from the start of the segment, so the monitors'
             // Hermite path over the segment starts with the velocity actually followed.
             self.set_velocities_to_commands();
             self.refresh_truth();
+        }
+        Ok(())
+    }
+
+    /// Applies the law's drag commands of the tick (from the states just updated) to the satellites with
+    /// drag attitudes: the commanded area, unless the satellite changed its area less than its minimum
+    /// dwell ago; every change counted. A command the satellite cannot present stops the run.
+    fn apply_drag_commands(&mut self, t0: f64, tick: u64) -> Result<(), SimError> {
+        if self.drag_commands.is_empty() || !self.law.drag_commands(&mut self.drag_commands) {
+            return Ok(());
+        }
+        let epsilon = self.config.time_epsilon_s();
+        let Satellites {
+            fleet,
+            drag_changed_s,
+            drag_switches,
+            ..
+        } = &mut self.satellites;
+        for (index, command) in self.drag_commands.iter().enumerate() {
+            let (Some(command), Some(attitudes), true) =
+                (command, fleet.drag_attitudes[index], fleet.active[index])
+            else {
+                continue;
+            };
+            let Some(area) = attitudes.area_of(*command) else {
+                return Err(SimError::BadDragCommand {
+                    satellite: fleet.order.id_at(index),
+                    tick,
+                    time_s: t0,
+                    law: self.law.name().to_string(),
+                    command: format!("{command:?}"),
+                    allowed: attitudes.describe(),
+                });
+            };
+            if area != fleet.drag_area_m2(index)
+                && t0 - drag_changed_s[index] >= attitudes.min_dwell_s - epsilon
+            {
+                fleet.set_drag_area_m2(index, area);
+                drag_changed_s[index] = t0;
+                drag_switches[index] += 1;
+            }
         }
         Ok(())
     }

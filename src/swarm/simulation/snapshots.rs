@@ -122,6 +122,8 @@ impl Simulation {
             threat_incursions: self.monitors.approach.total_threat_incursions(),
             obstacle_incursions: self.monitors.approach.total_obstacle_incursions(),
         };
+        let drag_areas_m2 = self.drag_areas_m2().unwrap_or_default();
+        let drag_switches = self.satellites.drag_switches.iter().sum();
         let snapshot = Snapshot {
             time_s: self.clock.time_s,
             relative_states: &relative_states,
@@ -137,6 +139,8 @@ impl Simulation {
             law_output_names,
             law_outputs: &law_outputs,
             environment,
+            drag_areas_m2: &drag_areas_m2,
+            drag_switches,
         };
         recorder.record(&snapshot)?;
         Ok(())
