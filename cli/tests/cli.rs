@@ -351,7 +351,8 @@ fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
 
 #[test]
 fn val_validate_scatter_prints_only_the_report_as_markdown_and_json() {
-    // Markdown: the outcome table with the paper column, every N and B row, the two further tables.
+    // Markdown: the outcome table with the paper and criterion columns, every N and B row, the three
+    // further tables.
     let output = satflock().args(["validate", "scatter"]).output().unwrap();
     assert!(
         output.status.success(),
@@ -360,9 +361,22 @@ fn val_validate_scatter_prints_only_the_report_as_markdown_and_json() {
     );
     let text = String::from_utf8_lossy(&output.stdout);
     assert!(text.starts_with("### Nag & Summerer 2013"), "{text}");
-    assert!(text.contains("| id | outcome | paper | ours | verdict |"));
+    assert!(text.contains("| id | outcome | paper | criterion | ours | verdict |"));
     for id in [
-        "N1", "N2", "N3", "N4", "N5", "N6", "N7", "N8", "N10", "B1", "B2",
+        "N1",
+        "N2",
+        "N2 (parallel)",
+        "N3",
+        "N4",
+        "N5",
+        "N5 (axis)",
+        "N6 S2",
+        "N7",
+        "N8",
+        "N10",
+        "B1",
+        "B2",
+        "B2 HCW",
     ] {
         assert!(text.contains(&format!("| {id} |")), "{id} missing");
     }
@@ -370,6 +384,7 @@ fn val_validate_scatter_prints_only_the_report_as_markdown_and_json() {
     assert!(
         text.contains("#### Strategy comparison")
             && text.contains("#### Cases of the reconstruction")
+            && text.contains("#### S3 dock sweep")
     );
     // JSON: stdout is exactly one JSON document (nothing else printed on stdout).
     let output = satflock()
@@ -378,12 +393,14 @@ fn val_validate_scatter_prints_only_the_report_as_markdown_and_json() {
         .unwrap();
     assert!(output.status.success());
     let v: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    assert_eq!(v["checks"].as_array().unwrap().len(), 21);
-    assert_eq!(v["tables"].as_array().unwrap().len(), 2);
+    assert_eq!(v["checks"].as_array().unwrap().len(), 25);
+    assert_eq!(v["tables"].as_array().unwrap().len(), 3);
     assert!(v["checks"].as_array().unwrap().iter().all(|c| [
         "reproduced",
         "differs",
-        "not-reproduced"
+        "not-reproduced",
+        "not-tested",
+        "retired"
     ]
     .contains(&c["verdict"].as_str().unwrap())));
 }
