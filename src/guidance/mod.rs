@@ -11,9 +11,11 @@
 //! | `bifurcating` | [`bifurcating`] | Gao et al. 2022 bifurcating potential field: formation, collision avoidance, damping |
 //! | `j2-distance` | [`j2_distance`] | Takahashi–Sakai distance-based stabiliser under J2 (main or opposing), with centralised DT grouping |
 //! | `equilibrium-shaping` | [`equilibrium_shaping`] | Nag–Summerer behaviour-based scatter under threat warnings: equilibrium-shaped velocity fields tracked on HCW, four strategies |
+//! | `differential-drag` | [`differential_drag`] | propellant-free along-track phasing by switching each satellite's drag attitude (Leonard-style bang-bang on the phase plane; ours) |
 //! | `pigeon` | [`pigeon`] | Qiu et al. pigeon-flock formation in the y–z plane with random egalitarian/hierarchical pattern switching, obstacles, radial PD, saturated CW thrust |
 
 pub mod bifurcating;
+pub mod differential_drag;
 pub mod equilibrium_shaping;
 pub mod free_drift;
 pub mod hold;
@@ -41,6 +43,8 @@ pub enum LawConfig {
     EquilibriumShaping(Box<equilibrium_shaping::EquilibriumShapingParameters>),
     /// Pigeon-flock formation with interaction-pattern switching (Qiu et al.). Boxed: its table is large.
     Pigeon(Box<pigeon::PigeonParameters>),
+    /// Along-track phasing by differential drag (ours).
+    DifferentialDrag(differential_drag::DifferentialDragParameters),
 }
 
 impl LawConfig {
@@ -52,6 +56,7 @@ impl LawConfig {
         "j2-distance",
         "equilibrium-shaping",
         "pigeon",
+        "differential-drag",
     ];
 
     /// Builds the law, checking its parameters.
@@ -65,6 +70,9 @@ impl LawConfig {
                 Law::new(equilibrium_shaping::EquilibriumShaping::new((**p).clone())?)
             }
             LawConfig::Pigeon(p) => Law::new(pigeon::Pigeon::new((**p).clone())?),
+            LawConfig::DifferentialDrag(p) => {
+                Law::new(differential_drag::DifferentialDrag::new(p.clone())?)
+            }
         })
     }
 
@@ -77,6 +85,7 @@ impl LawConfig {
             LawConfig::J2Distance(_) => "j2-distance",
             LawConfig::EquilibriumShaping(_) => "equilibrium-shaping",
             LawConfig::Pigeon(_) => "pigeon",
+            LawConfig::DifferentialDrag(_) => "differential-drag",
         }
     }
 
@@ -89,6 +98,7 @@ impl LawConfig {
             LawConfig::J2Distance(p) => LawParameters::new(p),
             LawConfig::EquilibriumShaping(p) => LawParameters::new(*p),
             LawConfig::Pigeon(p) => LawParameters::new(*p),
+            LawConfig::DifferentialDrag(p) => LawParameters::new(p),
         }
     }
 }

@@ -28,6 +28,10 @@ pub const BUILTINS: &[Builtin] = &[
         toml: include_str!("../../scenarios/drag-drift.toml"),
     },
     Builtin {
+        name: "dd-flock-phasing",
+        toml: include_str!("../../scenarios/dd-flock-phasing.toml"),
+    },
+    Builtin {
         name: "large-swarm",
         toml: include_str!("../../scenarios/large-swarm.toml"),
     },

@@ -1,0 +1,423 @@
+//! `differential-drag`: propellant-free along-track phasing of a flock in one orbital plane, each
+//! satellite switching between its low- and high-drag attitude (ours, beyond the seed papers; the design
+//! follows Leonard, Hollister & Bergmann, "Orbital formationkeeping with differential drag", J. Guidance
+//! 12(1), 1989, and Planet's Flock phasing, Foster et al., J. Spacecraft and Rockets 55(2), 2018; method
+//! page `docs/methods/differential-drag.md`).
+//!
+//! A satellite's **phase** is its angle along the orbit ahead of the LVLH origin, in the Hill frame
+//! `φ = atan2(y, R + x)` (R the reference orbit's radius at t = 0, x radial, y along-track). When the law
+//! starts, the satellites are ranked by phase (ties by id): rank k's **slot** is `(k − k̄) s` ahead of the
+//! flock's phase centroid (s = `spacing_deg`, k̄ the mean rank), so the flock spreads to equal gaps s (12
+//! satellites at 30° then also close the orbit with a 30° gap). The ranking is the one step that sees the
+//! whole flock at once, as a ground segment assigning the slots would; a flock released from one
+//! dispenser keeps its order. At each evaluation a satellite unwraps the phases of the satellites it senses
+//! along the rank order (each step between consecutive ranks wrapped to (−180°, 180°]), takes their
+//! centroid and mean rank, and its phase error is `e = φ − (φ̄ + (k − k̄) s)`: e > 0 means it is ahead
+//! of its slot. Every satellite regulating to the common centroid, not to its neighbours, avoids the
+//! string instability of a chain of bang-bang double integrators.
+//!
+//! High drag lowers the orbit faster, which raises the mean motion: the satellite gains phase. So once
+//! per `update_period_s` (one orbital period averages out the short-periodic J2 terms of the phases),
+//! from its error and the error's rate since the last update, it evaluates Leonard's switching function
+//! `σ = e + ė|ė| / (2 α)` on the phase plane, α = `authority_deg_per_day2`/2 (half the differential phase
+//! acceleration of the two modes: a margin, since the neighbours switch too), and chooses the low-drag
+//! mode when `σ > δ` (ahead: fall back), the high-drag mode when `σ < −δ` (behind: catch up), and the
+//! low-drag mode (which saves altitude) inside the dead band `|σ| ≤ δ` (δ = `deadband_deg`).
+//!
+//! It needs to sense its ring neighbours: a sensing range covering the flock's arc (for 12 satellites over
+//! a whole orbit, the orbit's diameter; the engine's grid then visits every satellite, which is cheap for
+//! a few dozen). It cannot change the plane, and its time to phase grows as 1/ΔB (method page).
+
+use std::collections::BTreeMap;
+use std::f64::consts::{PI, TAU};
+use std::sync::Arc;
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::swarm::{
+    Broadcast, DragCommand, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView,
+};
+
+/// Seconds per day.
+const DAY_S: f64 = 86_400.0;
+
+/// Parameters of the `differential-drag` law.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DifferentialDragParameters {
+    /// Target phase spacing between consecutive satellites along the orbit \[deg\]; in (0, 180].
+    pub spacing_deg: f64,
+    /// Half-width of the dead band on the switching function \[deg\]; >= 0.
+    #[serde(default)]
+    pub deadband_deg: f64,
+    /// Differential phase acceleration between a satellite in its high-drag and one in its low-drag
+    /// mode \[deg/day^2\]; > 0: `(3/2) ρ n² a ΔB` converted (the method page derives it).
+    pub authority_deg_per_day2: f64,
+    /// How often a satellite re-evaluates its error and may switch \[s\]; > 0 (one orbital period).
+    pub update_period_s: f64,
+    /// Tolerance of "phased" for the law's results: every spacing within this fraction of
+    /// `spacing_deg` (default 0.05).
+    #[serde(default = "default_phased_tolerance")]
+    pub phased_tolerance: f64,
+}
+
+fn default_phased_tolerance() -> f64 {
+    0.05
+}
+
+impl DifferentialDragParameters {
+    fn check(&self) -> Result<(), LawError> {
+        let bad = |message: String| LawError::InvalidParameters {
+            law: "differential-drag".into(),
+            message,
+        };
+        if !(self.spacing_deg > 0.0 && self.spacing_deg <= 180.0) {
+            return Err(bad(format!(
+                "spacing_deg = {} is out of range (allowed: (0, 180])",
+                self.spacing_deg
+            )));
+        }
+        if !(self.deadband_deg >= 0.0 && self.deadband_deg.is_finite()) {
+            return Err(bad(format!(
+                "deadband_deg = {} is out of range (allowed: finite, >= 0)",
+                self.deadband_deg
+            )));
+        }
+        if !(self.authority_deg_per_day2 > 0.0 && self.authority_deg_per_day2.is_finite()) {
+            return Err(bad(format!(
+                "authority_deg_per_day2 = {} is out of range (allowed: finite, > 0)",
+                self.authority_deg_per_day2
+            )));
+        }
+        if !(self.update_period_s > 0.0 && self.update_period_s.is_finite()) {
+            return Err(bad(format!(
+                "update_period_s = {} is out of range (allowed: finite, > 0)",
+                self.update_period_s
+            )));
+        }
+        if !(self.phased_tolerance > 0.0 && self.phased_tolerance < 1.0) {
+            return Err(bad(format!(
+                "phased_tolerance = {} is out of range (allowed: (0, 1))",
+                self.phased_tolerance
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// One satellite's memory.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DragPhasing {
+    /// In the high-drag mode.
+    pub high: bool,
+    /// Phase error at the last evaluation \[rad\].
+    pub error_rad: f64,
+    /// Its rate between the last two evaluations \[rad/s\].
+    pub rate_rad_s: f64,
+    /// Time of the last evaluation \[s\] (`None` before the first).
+    pub evaluated_s: Option<f64>,
+    /// Mode changes the law asked for.
+    pub switches: u64,
+}
+
+/// The `differential-drag` law.
+#[derive(Clone, Debug)]
+pub struct DifferentialDrag {
+    parameters: DifferentialDragParameters,
+    /// First time every spacing was within tolerance and stayed so, as seen at the recordings \[s\].
+    phased_since_s: Option<f64>,
+    /// The largest spacing error at the last recording \[deg\].
+    last_max_error_deg: f64,
+    /// Each satellite's rank by id (`usize::MAX`: not ranked, e.g. removed before the start).
+    ranks: Arc<Vec<usize>>,
+}
+
+impl DifferentialDrag {
+    /// The law, its parameters checked.
+    pub fn new(parameters: DifferentialDragParameters) -> Result<Self, LawError> {
+        parameters.check()?;
+        Ok(Self {
+            parameters,
+            phased_since_s: None,
+            last_max_error_deg: f64::NAN,
+            ranks: Arc::new(Vec::new()),
+        })
+    }
+
+    /// Phase of a Hill position ahead of the LVLH origin \[rad\].
+    fn phase_rad(position_m: &Vector3<f64>, reference_radius_m: f64) -> f64 {
+        position_m.y.atan2(reference_radius_m + position_m.x)
+    }
+
+    /// The phase error of the satellite of rank `own_rank` \[rad\], from the phases of the ranked
+    /// satellites it senses, itself included: `(rank, phase)` pairs sorted by rank.
+    fn error_rad(&self, own_rank: usize, sensed: &[(usize, f64)]) -> f64 {
+        let spacing = self.parameters.spacing_deg.to_radians();
+        let wrap = |d: f64| PI - (PI - d).rem_euclid(TAU);
+        let mut unwrapped = Vec::with_capacity(sensed.len());
+        for (k, &(_, phase)) in sensed.iter().enumerate() {
+            let value = match k {
+                0 => phase,
+                _ => {
+                    let previous: f64 = unwrapped[k - 1];
+                    previous + wrap(phase - previous)
+                }
+            };
+            unwrapped.push(value);
+        }
+        let count = sensed.len() as f64;
+        let centroid = unwrapped.iter().sum::<f64>() / count;
+        let mean_rank = sensed.iter().map(|(r, _)| *r as f64).sum::<f64>() / count;
+        let own = sensed
+            .iter()
+            .position(|(r, _)| *r == own_rank)
+            .map_or(centroid, |k| unwrapped[k]);
+        own - (centroid + (own_rank as f64 - mean_rank) * spacing)
+    }
+
+    /// The largest spacing error over the swarm's live satellites \[deg\]: the gaps between consecutive
+    /// phases, all of them when the satellites close the orbit (count × spacing ≥ 360° − spacing/2),
+    /// else all but the widest.
+    pub fn max_spacing_error_deg(&self, phases_rad: &mut [f64]) -> f64 {
+        let n = phases_rad.len();
+        if n < 2 {
+            return 0.0;
+        }
+        phases_rad.sort_by(f64::total_cmp);
+        let mut gaps: Vec<f64> = phases_rad.windows(2).map(|w| w[1] - w[0]).collect();
+        gaps.push(TAU - (phases_rad[n - 1] - phases_rad[0]));
+        let spacing = self.parameters.spacing_deg;
+        let ring = n as f64 * spacing >= 360.0 - 0.5 * spacing;
+        if !ring {
+            let widest = gaps
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map_or(0, |(k, _)| k);
+            gaps.remove(widest);
+        }
+        gaps.iter()
+            .map(|g| (g.to_degrees() - spacing).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+impl GuidanceLaw for DifferentialDrag {
+    type State = DragPhasing;
+    type Parameters = DifferentialDragParameters;
+
+    fn name(&self) -> &'static str {
+        "differential-drag"
+    }
+
+    fn initialise(&mut self, swarm: &SwarmView<'_>, _: &mut [DragPhasing]) -> Result<(), LawError> {
+        let radius = swarm.shared.reference_model.reference_radius_m();
+        let mut live: Vec<(f64, usize)> = (0..swarm.len())
+            .filter(|&i| swarm.active[i])
+            .map(|i| {
+                (
+                    Self::phase_rad(&swarm.relative_states[i].position_m, radius),
+                    i,
+                )
+            })
+            .collect();
+        live.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut ranks = vec![usize::MAX; swarm.len()];
+        for (k, &(_, id)) in live.iter().enumerate() {
+            ranks[id] = k;
+        }
+        self.ranks = Arc::new(ranks);
+        Ok(())
+    }
+
+    fn update_state(
+        &self,
+        satellite: &SatelliteView<'_>,
+        broadcast: &Broadcast<'_, DragPhasing>,
+        _context: &LawContext,
+    ) -> DragPhasing {
+        let mut state = broadcast.own().clone();
+        let shared = satellite.shared();
+        let t = shared.time_s;
+        let due = state
+            .evaluated_s
+            .is_none_or(|last| t - last >= self.parameters.update_period_s * (1.0 - 1e-9));
+        if !due {
+            return state;
+        }
+        let radius = shared.reference_model.reference_radius_m();
+        let rank_of = |id: usize| self.ranks.get(id).copied().filter(|r| *r != usize::MAX);
+        let Some(own_rank) = rank_of(satellite.id()) else {
+            return state;
+        };
+        let mut sensed = vec![(
+            own_rank,
+            Self::phase_rad(&satellite.own_state().position_m, radius),
+        )];
+        satellite.for_each_neighbour(|nb| {
+            if let Some(rank) = rank_of(nb.id) {
+                sensed.push((rank, Self::phase_rad(&nb.state.position_m, radius)));
+            }
+        });
+        sensed.sort_by_key(|e| e.0);
+        let error = self.error_rad(own_rank, &sensed);
+        let rate = match state.evaluated_s {
+            Some(last) if t > last => (error - state.error_rad) / (t - last),
+            _ => 0.0,
+        };
+        let alpha = 0.5 * self.parameters.authority_deg_per_day2.to_radians() / (DAY_S * DAY_S);
+        let sigma = error + rate * rate.abs() / (2.0 * alpha);
+        let deadband = self.parameters.deadband_deg.to_radians();
+        let high = sigma < -deadband;
+        if high != state.high {
+            state.switches += 1;
+        }
+        state.high = high;
+        state.error_rad = error;
+        state.rate_rad_s = rate;
+        state.evaluated_s = Some(t);
+        state
+    }
+
+    fn command(&self, _: &SatelliteView<'_>, _: &DragPhasing, _: &LawContext) -> Vector3<f64> {
+        Vector3::zeros()
+    }
+
+    fn commands_drag(&self) -> bool {
+        true
+    }
+
+    fn drag_command(&self, state: &DragPhasing) -> Option<DragCommand> {
+        Some(if state.high {
+            DragCommand::Maximum
+        } else {
+            DragCommand::Minimum
+        })
+    }
+
+    fn set_parameters(&mut self, parameters: &DifferentialDragParameters) -> Result<(), LawError> {
+        parameters.check()?;
+        self.parameters = parameters.clone();
+        Ok(())
+    }
+
+    fn output_names(&self) -> &'static [&'static str] {
+        &["dd_phase_error_deg", "dd_high_drag"]
+    }
+
+    fn write_outputs(&self, state: &DragPhasing, values: &mut [f64]) {
+        values[0] = state.error_rad.to_degrees();
+        values[1] = f64::from(u8::from(state.high));
+    }
+
+    fn metric_names(&self) -> &'static [&'static str] {
+        &["dd_max_spacing_error_deg", "dd_high_drag_count"]
+    }
+
+    fn record_metrics(
+        &mut self,
+        swarm: &SwarmView<'_>,
+        states: &[DragPhasing],
+        values: &mut [f64],
+    ) {
+        let radius = swarm.shared.reference_model.reference_radius_m();
+        let mut phases: Vec<f64> = swarm
+            .relative_states
+            .iter()
+            .zip(swarm.active)
+            .filter(|(_, a)| **a)
+            .map(|(s, _)| Self::phase_rad(&s.position_m, radius))
+            .collect();
+        let error = self.max_spacing_error_deg(&mut phases);
+        let tolerance = self.parameters.phased_tolerance * self.parameters.spacing_deg;
+        if error <= tolerance {
+            self.phased_since_s.get_or_insert(swarm.shared.time_s);
+        } else {
+            self.phased_since_s = None;
+        }
+        self.last_max_error_deg = error;
+        values[0] = error;
+        values[1] = states
+            .iter()
+            .zip(swarm.active)
+            .filter(|(s, a)| **a && s.high)
+            .count() as f64;
+    }
+
+    fn results(
+        &self,
+        _swarm: &SwarmView<'_>,
+        states: &[DragPhasing],
+    ) -> BTreeMap<String, serde_json::Value> {
+        let mut out = BTreeMap::new();
+        out.insert(
+            "time_to_phase_s".into(),
+            self.phased_since_s
+                .map_or(serde_json::Value::Null, |t| t.into()),
+        );
+        out.insert(
+            "max_phase_error_deg".into(),
+            if self.last_max_error_deg.is_finite() {
+                self.last_max_error_deg.into()
+            } else {
+                serde_json::Value::Null
+            },
+        );
+        out.insert(
+            "mode_switches".into(),
+            states.iter().map(|s| s.switches).sum::<u64>().into(),
+        );
+        out.insert("thrust_delta_v_mps".into(), 0.0.into());
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn law(spacing_deg: f64) -> DifferentialDrag {
+        DifferentialDrag::new(DifferentialDragParameters {
+            spacing_deg,
+            deadband_deg: 0.1,
+            authority_deg_per_day2: 0.01,
+            update_period_s: 5400.0,
+            phased_tolerance: 0.05,
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn phase_errors_against_the_slots_about_the_centroid() {
+        let l = law(30.0);
+        let d = |deg: f64| deg.to_radians();
+        // Ranks 0, 1, 2 at 0°, 20°, 50°: centroid 23.33°, mean rank 1, slots −6.67°, 23.33°, 53.33°:
+        // errors +6.67°, −3.33°, −3.33°.
+        let sensed = [(0, d(0.0)), (1, d(20.0)), (2, d(50.0))];
+        let e = |rank: usize| l.error_rad(rank, &sensed).to_degrees();
+        assert!((e(0) - 20.0 / 3.0).abs() < 1e-9, "{}", e(0));
+        assert!((e(1) + 10.0 / 3.0).abs() < 1e-9, "{}", e(1));
+        assert!((e(2) + 10.0 / 3.0).abs() < 1e-9, "{}", e(2));
+        // Twelve at 30° around the whole orbit, across the ±180° cut: no error anywhere.
+        let ring: Vec<(usize, f64)> = (0..12)
+            .map(|k| (k, d(-165.0 + 30.0 * k as f64 + 100.0)))
+            .map(|(k, p)| (k, PI - (PI - p).rem_euclid(TAU)))
+            .collect();
+        for k in 0..12 {
+            assert!(l.error_rad(k, &ring).abs() < 1e-12, "rank {k}");
+        }
+        let mut phases = vec![d(0.0), d(20.0), d(50.0)];
+        assert!((l.max_spacing_error_deg(&mut phases) - 10.0).abs() < 1e-9);
+        let mut all: Vec<f64> = ring.iter().map(|r| r.1).collect();
+        assert!(l.max_spacing_error_deg(&mut all) < 1e-9);
+    }
+
+    #[test]
+    fn parameters_out_of_range_are_refused_naming_the_key() {
+        let mut p = law(30.0).parameters;
+        p.authority_deg_per_day2 = 0.0;
+        let e = DifferentialDrag::new(p).unwrap_err().to_string();
+        assert!(e.contains("authority_deg_per_day2"), "{e}");
+    }
+}
