@@ -32,6 +32,10 @@ pub const BUILTINS: &[Builtin] = &[
         toml: include_str!("../../scenarios/dd-flock-phasing.toml"),
     },
     Builtin {
+        name: "dd-pair-keeping",
+        toml: include_str!("../../scenarios/dd-pair-keeping.toml"),
+    },
+    Builtin {
         name: "large-swarm",
         toml: include_str!("../../scenarios/large-swarm.toml"),
     },
