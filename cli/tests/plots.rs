@@ -294,3 +294,29 @@ fn val_cli_draws_after_runs_skips_with_no_plots_and_refuses_other_directories() 
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A run whose satellites have drag attitudes also gets the `drag` figure (phase, altitude, drag area);
+/// a run without them does not (it does not apply: nothing is skipped).
+#[test]
+fn val_drag_figure_of_a_drag_attitude_run() {
+    let dir = temp_dir("drag");
+    let run = run_builtin(&dir, "dd-pair-keeping", &[]);
+    let report = draw_run(&run).unwrap();
+    assert!(report.skipped.is_empty(), "{report:?}");
+    check_figures(
+        &run,
+        &[("drag", (1400, 1200))],
+        &[(
+            "drag",
+            &[
+                "phase [deg]",
+                "altitude [km]",
+                "area [m²]",
+                "2 of 2 satellites",
+            ],
+        )],
+    );
+    let threat = run_builtin(&dir, "es-e0", &[]);
+    draw_run(&threat).unwrap();
+    assert!(!threat.join("plots/drag.png").exists());
+}

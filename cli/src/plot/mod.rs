@@ -25,6 +25,7 @@
 
 mod campaign;
 mod delta_v;
+mod drag;
 pub mod overlay;
 mod series;
 mod tracks;
@@ -193,6 +194,10 @@ pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
         )),
     }
     write_figure(&out, &delta_v::DeltaV::new(&context), &mut report)?;
+    // Only for runs whose satellites have drag attitudes (not "skipped" elsewhere: it does not apply).
+    if let Some(figure) = drag::Drag::new(&context) {
+        write_figure(&out, &figure, &mut report)?;
+    }
     Ok(report)
 }
 
