@@ -59,7 +59,7 @@ impl<'a> Drag<'a> {
                 let velocity = Vector3::new(v[0][k], v[1][k], v[2][k]);
                 reference = Some((t[k], position, position.cross(&velocity).normalize()));
             }
-            if sat % stride != 0 {
+            if !sat.is_multiple_of(stride) {
                 continue;
             }
             let x = time.value(t[k]);
