@@ -118,7 +118,9 @@ fn val_pair_is_held_inside_its_band_by_drag_alone() {
         .expect("the pair never reached 10 km");
     let (lowest, highest) = separations.0[entered..]
         .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), (_, d)| (lo.min(*d), hi.max(*d)));
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), (_, d)| {
+            (lo.min(*d), hi.max(*d))
+        });
     println!(
         "inside 10-150 km from {:.2} days: separation {:.1}-{:.1} km to 30 days",
         separations.0[entered].0 / 86_400.0,
