@@ -465,6 +465,18 @@ impl SummaryContext {
                 mean: live.iter().map(|&i| ledger[i].1).sum::<f64>() / count,
                 mean_per_axis_hill: mean_axes,
             },
+            drag: simulation.drag_delta_v_mps().map(|delta_v| {
+                let switches = simulation.drag_switches();
+                let altitude = simulation.mean_altitude_first_and_last_orbit_m();
+                crate::output::summary::DragSummary {
+                    switches_total: switches.iter().sum(),
+                    switches_per_satellite: switches,
+                    delta_v_per_satellite_mps: delta_v,
+                    mean_altitude_first_orbit_m: altitude.map(|a| a.0),
+                    mean_altitude_last_orbit_m: altitude.map(|a| a.1),
+                    mean_altitude_decay_m: altitude.map(|a| a.0 - a.1),
+                }
+            }),
             min_separation_m: totals.min_separation_m,
             collisions: totals.max_collisions,
             final_state: FinalState {

@@ -78,6 +78,7 @@ fn val_flock_phases_by_drag_alone_and_deterministically() {
         assert_eq!(a.velocity_mps, b.velocity_mps);
     }
     assert_eq!(one.drag_switches(), two.drag_switches());
+    check_decay_against_drag_delta_v(&one);
 }
 
 /// `dd-pair-keeping`: two satellites released together drift apart and are then held inside the
@@ -132,4 +133,32 @@ fn val_pair_is_held_inside_its_band_by_drag_alone() {
     for id in 0..2 {
         assert_eq!(sim.state().ledger(id).1, 0.0);
     }
+    check_decay_against_drag_delta_v(&sim);
+}
+
+/// The drag Δv and the mean-altitude decay the engine reports, against each other: on a near-circular
+/// orbit drag takes energy at the rate v·a_drag, so `da = (2 a / v) dv_drag` (vis-viva). The swarm's
+/// mean altitude over the last orbit lies below that over the first by (2 a / v) times the mean drag Δv,
+/// within 10 % (the osculating eccentricity, J2, the orbit-averaging windows and the left-point sum of
+/// the Δv are each of order a per cent).
+fn check_decay_against_drag_delta_v(sim: &Simulation) {
+    let mu: f64 = 3.986004418e14;
+    let (first, last) = sim
+        .mean_altitude_first_and_last_orbit_m()
+        .expect("an orbit-averaged altitude");
+    let a = 6_378_136.3 + 0.5 * (first + last);
+    let v = (mu / a).sqrt();
+    let delta_v = sim.drag_delta_v_mps().expect("drag attitudes");
+    let mean_dv = delta_v.iter().sum::<f64>() / delta_v.len() as f64;
+    let predicted = 2.0 * a / v * mean_dv;
+    let decay = first - last;
+    println!(
+        "mean altitude {:.1} km -> {:.1} km: decay {decay:.1} m; drag dv {mean_dv:.4} m/s gives {predicted:.1} m",
+        first / 1e3,
+        last / 1e3
+    );
+    assert!(
+        (decay / predicted - 1.0).abs() < 0.1,
+        "{decay} m vs {predicted} m"
+    );
 }

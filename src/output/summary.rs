@@ -62,6 +62,25 @@ pub struct FinalState {
     pub five_elements: Option<FiveElements>,
 }
 
+/// Drag as an actuator over a run (satellites with drag attitudes).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DragSummary {
+    /// Changes of each satellite's drag area, by id.
+    pub switches_per_satellite: Vec<u64>,
+    /// Their sum.
+    pub switches_total: u64,
+    /// Each satellite's drag Δv, ∫‖a_drag‖dt \[m/s\], by id (left-point sum at the control ticks;
+    /// not propellant: `delta_v_mps` counts thrust only).
+    pub delta_v_per_satellite_mps: Vec<f64>,
+    /// The live satellites' mean altitude above the equatorial radius averaged over the first orbit
+    /// of the run \[m\] (absent for a run shorter than an orbit).
+    pub mean_altitude_first_orbit_m: Option<f64>,
+    /// The same over the last orbit of the run \[m\].
+    pub mean_altitude_last_orbit_m: Option<f64>,
+    /// First minus last: the mean decay over the run \[m\].
+    pub mean_altitude_decay_m: Option<f64>,
+}
+
 /// The content of `summary.json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RunSummary {
@@ -114,8 +133,11 @@ pub struct RunSummary {
     /// The truth dynamics: the model's name and, for inertial truth, the force models summed (in
     /// ECI = EME2000, instants in TT) and the ephemerides they read.
     pub dynamics: DynamicsSummary,
-    /// Delta-v statistics.
+    /// Delta-v statistics (thrust only).
     pub delta_v_mps: DeltaVSummary,
+    /// Drag as an actuator, when the satellites have drag attitudes (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drag: Option<DragSummary>,
     /// Smallest separation between two live satellites seen at any step \[m\].
     pub min_separation_m: f64,
     /// Largest number of simultaneous collisions (pairs closer than the sum of radii) at any step.

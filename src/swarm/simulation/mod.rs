@@ -136,6 +136,8 @@ pub struct Simulation {
     /// The law's drag commands of the tick, by storage index (empty when no satellite has drag
     /// attitudes).
     drag_commands: Vec<Option<crate::swarm::DragCommand>>,
+    /// The swarm's mean altitude over its first and its latest orbit (runs with drag attitudes).
+    drag_altitude: AltitudeWindow,
     /// The truth monitors' buffers: separation, threat approach and obstacle clearance.
     monitors: Monitors,
     integration: Integration,
@@ -289,6 +291,10 @@ impl Simulation {
             } else {
                 Vec::new()
             },
+            drag_altitude: AltitudeWindow::new(
+                (std::f64::consts::TAU / config.mean_motion_rad_s / config.base_step_s()).round()
+                    as usize,
+            ),
             monitors: Monitors {
                 live: LiveMetrics::new(n),
                 approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
@@ -332,6 +338,25 @@ impl Simulation {
                 .map(|id| fleet.drag_area_m2(fleet.order.index_of(id)))
                 .collect()
         })
+    }
+
+    /// Each satellite's drag Δv so far, ∫‖a_drag‖dt \[m/s\], by id, when a satellite has drag
+    /// attitudes (a left-point sum at the control ticks; not propellant: the thrust ledger is apart).
+    pub fn drag_delta_v_mps(&self) -> Option<Vec<f64>> {
+        self.drag_areas_m2().map(|_| {
+            self.satellites
+                .fleet
+                .order
+                .by_id(&self.satellites.drag_delta_v_mps)
+        })
+    }
+
+    /// The live satellites' mean altitude above the equatorial radius averaged over the run's first
+    /// orbit and over its latest orbit \[m\] (the orbit average removes the osculating oscillation),
+    /// when a satellite has drag attitudes and the run has lasted an orbit.
+    pub fn mean_altitude_first_and_last_orbit_m(&self) -> Option<(f64, f64)> {
+        self.drag_areas_m2()?;
+        self.drag_altitude.first_and_last()
     }
 
     /// How many times each satellite's drag area changed, by id.
@@ -627,4 +652,44 @@ fn check_drag_attitudes(
         }
     }
     Ok(())
+}
+
+/// The mean of a per-tick value over the first `length` ticks and over the latest `length` ticks.
+struct AltitudeWindow {
+    length: usize,
+    first_sum: f64,
+    first_count: usize,
+    latest: std::collections::VecDeque<f64>,
+}
+
+impl AltitudeWindow {
+    fn new(length: usize) -> Self {
+        Self {
+            length: length.max(1),
+            first_sum: 0.0,
+            first_count: 0,
+            latest: std::collections::VecDeque::new(),
+        }
+    }
+
+    fn push(&mut self, value: f64) {
+        if self.first_count < self.length {
+            self.first_sum += value;
+            self.first_count += 1;
+        }
+        self.latest.push_back(value);
+        if self.latest.len() > self.length {
+            self.latest.pop_front();
+        }
+    }
+
+    fn first_and_last(&self) -> Option<(f64, f64)> {
+        (self.first_count == self.length).then(|| {
+            let latest: f64 = self.latest.iter().sum();
+            (
+                self.first_sum / self.length as f64,
+                latest / self.latest.len() as f64,
+            )
+        })
+    }
 }

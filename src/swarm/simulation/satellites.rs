@@ -115,6 +115,9 @@ pub(in crate::swarm::simulation) struct Satellites {
     pub drag_changed_s: Vec<f64>,
     /// How many times each satellite's drag area changed.
     pub drag_switches: Vec<u64>,
+    /// ∫‖a_drag‖dt of each satellite with drag attitudes \[m/s\] (left-point sum at the control ticks:
+    /// not propellant, kept apart from the thrust ledger).
+    pub drag_delta_v_mps: Vec<f64>,
 }
 
 impl Satellites {
@@ -128,6 +131,7 @@ impl Satellites {
             held_control: vec![Vector3::zeros(); n],
             drag_changed_s: vec![f64::NEG_INFINITY; n],
             drag_switches: vec![0; n],
+            drag_delta_v_mps: vec![0.0; n],
         }
     }
 
@@ -151,6 +155,7 @@ impl Satellites {
             held_control,
             drag_changed_s,
             drag_switches,
+            drag_delta_v_mps,
         } = self;
         permute(masses_kg, moves, visited);
         permute(surfaces, moves, visited);
@@ -159,6 +164,7 @@ impl Satellites {
         permute(drag_attitudes, moves, visited);
         permute(drag_changed_s, moves, visited);
         permute(drag_switches, moves, visited);
+        permute(drag_delta_v_mps, moves, visited);
         permute(active, moves, visited);
         permute(links_up, moves, visited);
         permute(truth, moves, visited);

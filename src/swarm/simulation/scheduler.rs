@@ -10,6 +10,7 @@ use std::time::Instant;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
+use crate::dynamics::ForceModel;
 use crate::orbit::LvlhFrame;
 use crate::random::{Purpose, RandomStream};
 use crate::swarm::dynamics::DynamicsModel;
@@ -19,7 +20,7 @@ use crate::swarm::simulation::propagation::{CoupledSwarm, SampledSegment};
 use crate::swarm::simulation::satellites::Satellites;
 use crate::swarm::simulation::sensing::{Plant, CHUNK};
 use crate::swarm::simulation::{Integration, RunTotals, SimError, Simulation, SimulationConfig};
-use crate::swarm::state::satellite_index;
+use crate::swarm::state::{satellite_index, satellite_of};
 
 /// Where the run loop is.
 #[derive(Clone, Copy, Debug)]
@@ -329,6 +330,9 @@ impl Simulation {
         if stateful {
             self.apply_drag_commands(t0, tick)?;
         }
+        if !self.drag_commands.is_empty() {
+            self.account_drag(t0);
+        }
         self.timings.law_s += clock.elapsed().as_secs_f64();
         if kinematic {
             // The velocity state is the command from the start of the segment, so the monitors'
@@ -378,6 +382,41 @@ impl Simulation {
             }
         }
         Ok(())
+    }
+
+    /// At a tick of a run with drag attitudes: adds each such satellite's drag acceleration over the
+    /// tick period to its drag Δv (left-point rule), and the live satellites' mean altitude above the
+    /// equatorial radius to the orbit-averaging window. Inertial truth only (drag attitudes need a
+    /// force set with drag).
+    fn account_drag(&mut self, t0: f64) {
+        let Some(forces) = self.config.dynamics.forces() else {
+            return;
+        };
+        let Some(drag) = forces.drag() else {
+            return;
+        };
+        let at = forces.instant(t0);
+        let period_s = self.config.base_step_s();
+        let radius_m = self.config.earth.equatorial_radius_m;
+        let n = self.state.n();
+        let data = self.state.as_slice();
+        let fleet = &self.satellites.fleet;
+        let (mut altitude_sum, mut live) = (0.0, 0usize);
+        for i in 0..n {
+            if !fleet.active[i] {
+                continue;
+            }
+            let (p, v) = satellite_of(data, n, i);
+            altitude_sum += p.norm() - radius_m;
+            live += 1;
+            if fleet.drag_attitudes[i].is_some() {
+                let a = drag.acceleration_eci_m_s2(&at, &p, &v, &fleet.properties(i));
+                self.satellites.drag_delta_v_mps[i] += a.norm() * period_s;
+            }
+        }
+        if live > 0 {
+            self.drag_altitude.push(altitude_sum / live as f64);
+        }
     }
 
     /// Holds the tick's applied commands (plus process noise) in the dynamics frame until the next tick.
