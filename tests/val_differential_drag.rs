@@ -13,21 +13,17 @@
 
 use std::f64::consts::PI;
 
+use satflock::run::build_simulation;
 use satflock::scenario::Scenario;
 use satflock::swarm::{NullRecorder, Simulation};
 
+/// The built-in `name`, ready to run.
+fn simulation(name: &str) -> Simulation {
+    build_simulation(&Scenario::load(name).unwrap()).unwrap()
+}
+
 fn run(threads: usize) -> Simulation {
-    let prepared = Scenario::load("dd-flock-phasing")
-        .unwrap()
-        .prepare()
-        .unwrap();
-    let mut sim = Simulation::new(
-        prepared.config,
-        &prepared.satellites,
-        prepared.law,
-        prepared.events,
-    )
-    .unwrap();
+    let mut sim = simulation("dd-flock-phasing");
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -99,17 +95,7 @@ fn val_pair_is_held_inside_its_band_by_drag_alone() {
             Ok(())
         }
     }
-    let prepared = Scenario::load("dd-pair-keeping")
-        .unwrap()
-        .prepare()
-        .unwrap();
-    let mut sim = Simulation::new(
-        prepared.config,
-        &prepared.satellites,
-        prepared.law,
-        prepared.events,
-    )
-    .unwrap();
+    let mut sim = simulation("dd-pair-keeping");
     let mut separations = Separations(Vec::new());
     sim.run(&mut separations, &mut |_| {}).unwrap();
     let entered = separations

@@ -208,7 +208,7 @@ impl OutputColumns {
             obstacles: !simulation.config().obstacles.is_empty(),
             law_metrics: simulation.law_metric_names(),
             law_outputs: simulation.law_output_names(),
-            drag: simulation.drag_areas_m2().is_some(),
+            drag: simulation.has_drag_attitudes(),
         }
     }
 

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 
 use serde::Deserialize;
 
-use crate::validate::{Check, ValidateError, Verdict};
+use crate::validate::{Check, Report, Table, ValidateError, Verdict};
 
 /// The data files, by validation target.
 const FILES: &[(&str, &str, &str)] = &[
@@ -144,6 +144,19 @@ impl PaperData {
                 format!("no [[tables.{name}]]"),
             )
         })
+    }
+
+    /// The paper's report of the measured `checks` (texts and criteria re-applied from this data by
+    /// [`crate::validate::with_data`]), further `tables` and `notes`.
+    pub fn report(&self, checks: Vec<Check>, tables: Vec<Table>, notes: Vec<String>) -> Report {
+        Report {
+            title: self.title.clone(),
+            reference_header: "paper".into(),
+            measured: None,
+            checks,
+            tables,
+            notes,
+        }
     }
 
     /// The outcome of that id.

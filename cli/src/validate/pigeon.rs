@@ -1055,12 +1055,9 @@ pub fn report() -> Result<Report, ValidateError> {
         p7(data.outcome("P7 (R_c^1 = 120 m)")?, &g.q1_former, &g.q2)?,
     ];
     let all = 4 * SEEDS.count();
-    Ok(Report {
-        title: data.title.clone(),
-        reference_header: "paper".into(),
-        measured: None,
+    Ok(data.report(
         checks,
-        tables: vec![comparison(&g, damping)?],
-        notes: notes(&g, damping, omega, all)?,
-    })
+        vec![comparison(&g, damping)?],
+        notes(&g, damping, omega, all)?,
+    ))
 }

@@ -1827,18 +1827,15 @@ pub fn report() -> Result<Report, ValidateError> {
     let (sweep, sweep_note) = dock_sweep(&data, &runs)?;
     let mut notes = notes(&data, &runs)?;
     notes.insert(notes.len() - 1, sweep_note);
-    Ok(Report {
-        measured: None,
-        title: data.title.clone(),
-        reference_header: "paper".into(),
+    Ok(data.report(
         checks,
-        tables: vec![
+        vec![
             strategy_table(&data, &runs)?,
             cases_table(&data, &runs)?,
             sweep,
         ],
         notes,
-    })
+    ))
 }
 
 /// The notes behind the rows that differ: every number computed from the runs, the equations or the

@@ -959,14 +959,7 @@ pub fn report() -> Result<Report, ValidateError> {
     let mut notes = vec![t2_by_seed_note()?, split_by_seed_note()?];
     notes.push("P5: under truth J2 the measured C1 and C4 keep small forced residuals from the inexact Schweighart–Sedwick no-drift condition (docs/methods/j2-distance.md §3.5); the paper's figures, unavailable, claim convergence to the origin.".into());
     notes.extend(outage_notes()?);
-    Ok(Report {
-        measured: None,
-        title: data.title.clone(),
-        reference_header: "paper".into(),
-        checks,
-        tables: Vec::new(),
-        notes,
-    })
+    Ok(data.report(checks, Vec::new(), notes))
 }
 
 /// Mean motion of a scenario's reference orbit \[rad/s\].

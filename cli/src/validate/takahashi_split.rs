@@ -377,15 +377,8 @@ pub fn report() -> Result<Report, ValidateError> {
         .map_err(failed)?
         .satellites
         .len();
-    Ok(Report {
-        measured: None,
-        title: data.title.clone(),
-        reference_header: "paper".into(),
-        checks,
-        tables: vec![summary(&g), per_seed(&g)],
-        notes: vec![format!(
+    Ok(data.report(checks, vec![summary(&g), per_seed(&g)], vec![format!(
             "Runs: ts-plane-2 ({satellites} satellites, truth J2, defaults of docs/methods/j2-distance.md §10), duration_s = {DURATION_S}, seeds 1–{SEEDS}, each grouping; {} runs through satflock::campaign::pool::run_bounded, each on one thread. A run splits if its grouping graph over the live satellites has more than one connected component at some grouping update (summary.json: law.grouping.max_components > 1). The same runs as a campaign: campaigns/ts-plane-2-split.toml and campaigns/ts-plane-2-split-preserving.toml.",
             runs.len()
-        )],
-    })
+        )]))
 }

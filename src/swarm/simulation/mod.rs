@@ -329,11 +329,17 @@ impl Simulation {
         &self.config
     }
 
+    /// Whether a satellite has drag attitudes (a law may command its drag area): the drag-command
+    /// buffer exists exactly then.
+    pub fn has_drag_attitudes(&self) -> bool {
+        !self.drag_commands.is_empty()
+    }
+
     /// Every satellite's drag area now \[m^2\], by id, when a satellite has drag attitudes (a law may
     /// command it); `None` otherwise.
     pub fn drag_areas_m2(&self) -> Option<Vec<f64>> {
         let fleet = &self.satellites.fleet;
-        fleet.drag_attitudes.iter().any(Option::is_some).then(|| {
+        self.has_drag_attitudes().then(|| {
             (0..fleet.active.len())
                 .map(|id| fleet.drag_area_m2(fleet.order.index_of(id)))
                 .collect()
@@ -343,7 +349,7 @@ impl Simulation {
     /// Each satellite's drag Δv so far, ∫‖a_drag‖dt \[m/s\], by id, when a satellite has drag
     /// attitudes (a left-point sum at the control ticks; not propellant: the thrust ledger is apart).
     pub fn drag_delta_v_mps(&self) -> Option<Vec<f64>> {
-        self.drag_areas_m2().map(|_| {
+        self.has_drag_attitudes().then(|| {
             self.satellites
                 .fleet
                 .order
@@ -355,8 +361,9 @@ impl Simulation {
     /// orbit and over its latest orbit \[m\] (the orbit average removes the osculating oscillation),
     /// when a satellite has drag attitudes and the run has lasted an orbit.
     pub fn mean_altitude_first_and_last_orbit_m(&self) -> Option<(f64, f64)> {
-        self.drag_areas_m2()?;
-        self.drag_altitude.first_and_last()
+        self.has_drag_attitudes()
+            .then(|| self.drag_altitude.first_and_last())
+            .flatten()
     }
 
     /// How many times each satellite's drag area changed, by id.

@@ -802,12 +802,5 @@ pub fn report() -> Result<Report, ValidateError> {
     let (check, note) = o13(data.outcome("O13")?, &g9)?;
     checks.push(check);
     notes.push(note);
-    Ok(Report {
-        measured: None,
-        title: data.title.clone(),
-        reference_header: "paper".into(),
-        checks,
-        tables: Vec::new(),
-        notes,
-    })
+    Ok(data.report(checks, Vec::new(), notes))
 }
