@@ -502,3 +502,41 @@ fn val_run_pigeon_warns_of_a_disconnected_initial_link_graph_on_stderr_and_in_th
         "{stderr} {warnings:?}"
     );
 }
+
+/// `validate --from` renders a saved measurement without running; a missing or malformed file is a
+/// usage error naming the file (exit 2).
+#[test]
+fn val_validate_from_renders_a_saved_measurement_and_refuses_a_bad_file() {
+    let saved =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../validation/measured/pigeon.json");
+    let output = satflock()
+        .args(["validate", "pigeon", "--from"])
+        .arg(&saved)
+        .output()
+        .unwrap();
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let text = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        text.contains("| P7 (R_c^1 = 120 m) |")
+            && text.contains("Measured by `satflock validate pigeon`")
+    );
+    let dir = std::env::temp_dir().join(format!("satflock-validate-from-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{ not json").unwrap();
+    for path in [bad.clone(), dir.join("missing.json")] {
+        let output = satflock()
+            .args(["validate", "pigeon", "--from"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&output.stderr);
+        assert!(err.contains(&*path.to_string_lossy()), "{err}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
