@@ -92,6 +92,18 @@ fn val_malformed_scenarios_get_clear_errors() {
             &["case.toml", "count"],
         ),
         (
+            "negative release dispersion",
+            "initial = { distribution = \"sphere\", radius_m = 50.0 }",
+            "initial = { distribution = \"dispenser\", spacing_m = 2.0, release_speed_mps = [-0.1, 0.1], release_dispersion_mps = -0.01 }",
+            &["case.toml", "satellites.initial.release_dispersion_mps", "allowed: finite, >= 0"],
+        ),
+        (
+            "infinite release speed",
+            "initial = { distribution = \"sphere\", radius_m = 50.0 }",
+            "initial = { distribution = \"dispenser\", spacing_m = 2.0, release_speed_mps = [-0.1, inf] }",
+            &["case.toml", "satellites.initial.release_speed_mps", "not a finite number"],
+        ),
+        (
             "zero satellites",
             "count = 4",
             "count = 0",

@@ -6,11 +6,14 @@
 //!
 //! A satellite's **phase** is its angle along the orbit ahead of the LVLH origin, in the Hill frame
 //! `φ = atan2(y, R + x)` (R the reference orbit's radius at t = 0, x radial, y along-track). When the law
-//! starts, the satellites are ranked by phase (ties by id): rank k's **slot** is `(k − k̄) s` ahead of the
+//! starts, the satellites are ranked (ties by id): rank k's **slot** is `(k − k̄) s` ahead of the
 //! flock's phase centroid (s = `spacing_deg`, k̄ the mean rank), so the flock spreads to equal gaps s (12
-//! satellites at 30° then also close the orbit with a 30° gap). The ranking is the one step that sees the
-//! whole flock at once, as a ground segment assigning the slots would; a flock released from one
-//! dispenser keeps its order. At each evaluation a satellite unwraps the phases of the satellites it senses
+//! satellites at 30° then also close the orbit with a 30° gap). The ranking is by the phase each
+//! satellite would reach after one update period of free drift (its phase plus the HCW secular drift
+//! `−(6 n x + 3 ẏ)/R` times `update_period_s`), so a flock released from one dispenser is ranked in the
+//! order its release velocities spread it, not against it. It is the one step that sees the whole
+//! flock at once, as a ground segment assigning the slots would. With `slots = "reference"` the slots
+//! sit about the reference orbit's origin instead, and a satellite needs nobody else's phase. At each evaluation a satellite unwraps the phases of the satellites it senses
 //! along the rank order (each step between consecutive ranks wrapped to (−180°, 180°]), takes their
 //! centroid and mean rank, and its phase error is `e = φ − (φ̄ + (k − k̄) s)`: e > 0 means it is ahead
 //! of its slot. Every satellite regulating to the common centroid, not to its neighbours, avoids the
@@ -60,6 +63,26 @@ pub struct DifferentialDragParameters {
     /// `spacing_deg` (default 0.05).
     #[serde(default = "default_phased_tolerance")]
     pub phased_tolerance: f64,
+    /// What the slots are placed about (default `flock`).
+    #[serde(default)]
+    pub slots: SlotAnchor,
+}
+
+/// What the `differential-drag` slots are placed about.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SlotAnchor {
+    /// The phase centroid of the satellites a satellite senses, itself included (the whole flock when
+    /// the sensing range covers it): needs no common reference, but every satellite must sense the
+    /// flock's whole arc, O(N²) per evaluation.
+    #[default]
+    Flock,
+    /// The reference orbit's origin (a virtual chief each satellite propagates on board): slot k at
+    /// `(k − (N − 1)/2) s` ahead of it. A satellite needs only its own navigation state and rank, O(1)
+    /// per evaluation; the reference's ballistic coefficient must lie between the satellites' low- and
+    /// high-drag ones (`[reference] drag_area_m2`), or the slots drift away faster than a satellite can
+    /// follow.
+    Reference,
 }
 
 fn default_phased_tolerance() -> f64 {
@@ -121,6 +144,11 @@ pub struct DragPhasing {
     pub switches: u64,
 }
 
+/// `d` wrapped to (−π, π] \[rad\].
+fn wrap_rad(d: f64) -> f64 {
+    PI - (PI - d).rem_euclid(TAU)
+}
+
 /// The `differential-drag` law.
 #[derive(Clone, Debug)]
 pub struct DifferentialDrag {
@@ -131,6 +159,8 @@ pub struct DifferentialDrag {
     last_max_error_deg: f64,
     /// Each satellite's rank by id (`usize::MAX`: not ranked, e.g. removed before the start).
     ranks: Arc<Vec<usize>>,
+    /// How many satellites were ranked.
+    ranked: usize,
 }
 
 impl DifferentialDrag {
@@ -142,6 +172,7 @@ impl DifferentialDrag {
             phased_since_s: None,
             last_max_error_deg: f64::NAN,
             ranks: Arc::new(Vec::new()),
+            ranked: 0,
         })
     }
 
@@ -154,14 +185,13 @@ impl DifferentialDrag {
     /// satellites it senses, itself included: `(rank, phase)` pairs sorted by rank.
     fn error_rad(&self, own_rank: usize, sensed: &[(usize, f64)]) -> f64 {
         let spacing = self.parameters.spacing_deg.to_radians();
-        let wrap = |d: f64| PI - (PI - d).rem_euclid(TAU);
         let mut unwrapped = Vec::with_capacity(sensed.len());
         for (k, &(_, phase)) in sensed.iter().enumerate() {
             let value = match k {
                 0 => phase,
                 _ => {
                     let previous: f64 = unwrapped[k - 1];
-                    previous + wrap(phase - previous)
+                    previous + wrap_rad(phase - previous)
                 }
             };
             unwrapped.push(value);
@@ -213,11 +243,17 @@ impl GuidanceLaw for DifferentialDrag {
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _: &mut [DragPhasing]) -> Result<(), LawError> {
         let radius = swarm.shared.reference_model.reference_radius_m();
+        let n = swarm.shared.mean_motion_rad_s;
+        let horizon_s = self.parameters.update_period_s;
         let mut live: Vec<(f64, usize)> = (0..swarm.len())
             .filter(|&i| swarm.active[i])
             .map(|i| {
+                let state = &swarm.relative_states[i];
+                // The HCW secular along-track drift −(6 n x + 3 ẏ) [m/s] over one update period.
+                let drift_rad_s =
+                    -(6.0 * n * state.position_m.x + 3.0 * state.velocity_mps.y) / radius;
                 (
-                    Self::phase_rad(&swarm.relative_states[i].position_m, radius),
+                    Self::phase_rad(&state.position_m, radius) + drift_rad_s * horizon_s,
                     i,
                 )
             })
@@ -228,6 +264,7 @@ impl GuidanceLaw for DifferentialDrag {
             ranks[id] = k;
         }
         self.ranks = Arc::new(ranks);
+        self.ranked = live.len();
         Ok(())
     }
 
@@ -251,19 +288,26 @@ impl GuidanceLaw for DifferentialDrag {
         let Some(own_rank) = rank_of(satellite.id()) else {
             return state;
         };
-        let mut sensed = vec![(
-            own_rank,
-            Self::phase_rad(&satellite.own_state().position_m, radius),
-        )];
-        satellite.for_each_neighbour(|nb| {
-            if let Some(rank) = rank_of(nb.id) {
-                sensed.push((rank, Self::phase_rad(&nb.state.position_m, radius)));
+        let own_phase = Self::phase_rad(&satellite.own_state().position_m, radius);
+        let error = match self.parameters.slots {
+            SlotAnchor::Reference => {
+                let middle = (self.ranked as f64 - 1.0) / 2.0;
+                let slot = (own_rank as f64 - middle) * self.parameters.spacing_deg.to_radians();
+                wrap_rad(own_phase - slot)
             }
-        });
-        sensed.sort_by_key(|e| e.0);
-        let error = self.error_rad(own_rank, &sensed);
+            SlotAnchor::Flock => {
+                let mut sensed = vec![(own_rank, own_phase)];
+                satellite.for_each_neighbour(|nb| {
+                    if let Some(rank) = rank_of(nb.id) {
+                        sensed.push((rank, Self::phase_rad(&nb.state.position_m, radius)));
+                    }
+                });
+                sensed.sort_by_key(|e| e.0);
+                self.error_rad(own_rank, &sensed)
+            }
+        };
         let rate = match state.evaluated_s {
-            Some(last) if t > last => (error - state.error_rad) / (t - last),
+            Some(last) if t > last => wrap_rad(error - state.error_rad) / (t - last),
             _ => 0.0,
         };
         let alpha = 0.5 * self.parameters.authority_deg_per_day2.to_radians() / (DAY_S * DAY_S);
@@ -384,6 +428,7 @@ mod tests {
             authority_deg_per_day2: 0.01,
             update_period_s: 5400.0,
             phased_tolerance: 0.05,
+            slots: SlotAnchor::Flock,
         })
         .unwrap()
     }

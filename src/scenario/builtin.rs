@@ -32,6 +32,10 @@ pub const BUILTINS: &[Builtin] = &[
         toml: include_str!("../../scenarios/dd-flock-phasing.toml"),
     },
     Builtin {
+        name: "dd-flock-phasing-1000",
+        toml: include_str!("../../scenarios/dd-flock-phasing-1000.toml"),
+    },
+    Builtin {
         name: "dd-pair-keeping",
         toml: include_str!("../../scenarios/dd-pair-keeping.toml"),
     },

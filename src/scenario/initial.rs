@@ -112,6 +112,39 @@ pub fn with_velocity(
         .collect()
 }
 
+/// Relative states of `count` satellites released from one dispenser at the LVLH origin (Hill frame):
+/// along-track positions `(i − (count − 1)/2) spacing_m` \[m\], along-track velocities spaced linearly
+/// from `release_speed_mps[0]` to `release_speed_mps[1]` \[m/s\], each velocity component dispersed by
+/// a Gaussian of `dispersion_mps` (1 σ) \[m/s\] drawn from the satellite's own stream.
+pub fn dispenser(
+    seed: u64,
+    count: usize,
+    spacing_m: f64,
+    release_speed_mps: [f64; 2],
+    dispersion_mps: f64,
+) -> Vec<RelativeStateHill> {
+    let middle = (count as f64 - 1.0) / 2.0;
+    let step_mps = match count {
+        0 | 1 => 0.0,
+        _ => (release_speed_mps[1] - release_speed_mps[0]) / (count as f64 - 1.0),
+    };
+    (0..count)
+        .map(|i| {
+            let mut rng = satellite_stream(seed, i);
+            let dispersion = Vector3::new(
+                rng.standard_normal(),
+                rng.standard_normal(),
+                rng.standard_normal(),
+            ) * dispersion_mps;
+            RelativeStateHill {
+                position_m: Vector3::new(0.0, (i as f64 - middle) * spacing_m, 0.0),
+                velocity_mps: Vector3::new(0.0, release_speed_mps[0] + i as f64 * step_mps, 0.0)
+                    + dispersion,
+            }
+        })
+        .collect()
+}
+
 /// Relative states from averaged-J2 parameters drawn uniformly per satellite (Takahashi & Sakai; `docs/methods/j2-distance.md` §10.1):
 /// C₁ in ±`c1_max_m`, C₄ in ±`c4_max_m`, C₂, C₃, C₅, C₆ in ±`amplitude_max_m` \[m\], converted with
 /// `model` (`docs/methods/j2-distance.md` §3.2). Satellite `origin` (if any) gets C = 0. One stream per satellite.
@@ -168,6 +201,47 @@ mod tests {
             let d = p - c;
             assert!(d.x.abs() <= 1.0 && d.y.abs() <= 2.0 && d.z.abs() <= 3.0);
         }
+    }
+
+    #[test]
+    fn val_dispenser_release_spacing_speeds_and_dispersion() {
+        // Without dispersion: the train and the linear speed ramp exactly.
+        let plain = dispenser(5, 5, 2.0, [-0.2, 0.2], 0.0);
+        for (i, s) in plain.iter().enumerate() {
+            let k = i as f64 - 2.0;
+            assert_eq!(s.position_m, Vector3::new(0.0, 2.0 * k, 0.0));
+            assert!((s.velocity_mps - Vector3::new(0.0, 0.1 * k, 0.0)).norm() < 1e-15);
+        }
+        // With dispersion: per axis, the sample mean and standard deviation of 20 000 draws of
+        // σ = 0.01 m/s about the ramp are within 5 standard errors of 0 and σ (standard error of the
+        // mean σ/√n = 7.1e-5; of the standard deviation σ/√(2n) = 5.0e-5).
+        let n = 20_000;
+        let sigma = 0.01;
+        let spread = dispenser(9, n, 1.0, [0.0, 0.0], sigma);
+        for axis in 0..3 {
+            let values: Vec<f64> = spread.iter().map(|s| s.velocity_mps[axis]).collect();
+            let mean = values.iter().sum::<f64>() / n as f64;
+            let sd =
+                (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n as f64 - 1.0)).sqrt();
+            assert!(
+                mean.abs() < 5.0 * sigma / (n as f64).sqrt(),
+                "axis {axis}: mean {mean}"
+            );
+            assert!(
+                (sd - sigma).abs() < 5.0 * sigma / (2.0 * n as f64).sqrt(),
+                "axis {axis}: sd {sd}"
+            );
+        }
+        // One stream per satellite: the same seed gives the same draws, another seed others; a
+        // satellite's draw does not depend on the count.
+        let few = dispenser(9, 3, 1.0, [0.0, 0.0], sigma);
+        for (a, b) in few.iter().zip(&spread) {
+            assert_eq!(a.velocity_mps, b.velocity_mps);
+        }
+        assert_ne!(
+            dispenser(10, 3, 1.0, [0.0, 0.0], sigma)[0].velocity_mps,
+            spread[0].velocity_mps
+        );
     }
 
     #[test]

@@ -359,6 +359,19 @@ pub enum InitialSection {
         /// Bound of |C₂|, |C₃|, |C₅|, |C₆| \[m\].
         amplitude_max_m: f64,
     },
+    /// Satellites released one after another from one dispenser at the LVLH origin: satellite i (of N)
+    /// starts `(i − (N − 1)/2) spacing_m` along-track, with an along-track release velocity spaced
+    /// linearly from `release_speed_mps[0]` (satellite 0) to `release_speed_mps[1]` (satellite N − 1),
+    /// plus an independent Gaussian dispersion of `release_dispersion_mps` (1 σ) per Hill axis.
+    Dispenser {
+        /// Along-track distance between consecutive satellites at release \[m\].
+        spacing_m: f64,
+        /// Along-track release velocities of the first and the last satellite \[m/s\].
+        release_speed_mps: [f64; 2],
+        /// Release velocity dispersion, 1 σ per Hill axis \[m/s\] (default 0).
+        #[serde(default)]
+        release_dispersion_mps: f64,
+    },
     /// An explicit list of states [x, y, z, vx, vy, vz] in m and m/s.
     List {
         /// Frame of the listed states (default `hill`).

@@ -1156,6 +1156,19 @@ fn initial_states(
                 origin_member,
             )
         }
+        InitialSection::Dispenser {
+            spacing_m,
+            release_speed_mps,
+            release_dispersion_mps,
+        } => {
+            let spacing = c.non_negative(&format!("{key}.spacing_m"), *spacing_m)?;
+            c.finite(&format!("{key}.release_speed_mps"), release_speed_mps)?;
+            let dispersion = c.non_negative(
+                &format!("{key}.release_dispersion_mps"),
+                *release_dispersion_mps,
+            )?;
+            initial::dispenser(seed, count, spacing, *release_speed_mps, dispersion)
+        }
         InitialSection::List { frame, states } => {
             if states.len() != count {
                 return Err(c.invalid(

@@ -95,6 +95,7 @@ trait ErasedLaw: Send + Sync {
     fn name(&self) -> &'static str;
     fn is_stateful(&self) -> bool;
     fn command_kind(&self) -> CommandKind;
+    fn commands_drag(&self) -> bool;
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64>;
     fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError>;
     fn output_names(&self) -> &'static [&'static str];
@@ -169,6 +170,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn command_kind(&self) -> CommandKind {
         self.law.command_kind()
+    }
+
+    fn commands_drag(&self) -> bool {
+        self.law.commands_drag()
     }
 
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {
@@ -423,6 +428,11 @@ impl Law {
     /// What the law commands.
     pub fn command_kind(&self) -> CommandKind {
         self.0.command_kind()
+    }
+
+    /// Whether the law commands the drag area ([`GuidanceLaw::commands_drag`]).
+    pub fn commands_drag(&self) -> bool {
+        self.0.commands_drag()
     }
 
     /// Every satellite's drag command from its current state ([`GuidanceLaw::drag_command`]), by

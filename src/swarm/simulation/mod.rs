@@ -556,8 +556,18 @@ impl Simulation {
     }
 
     /// The law's results for the summary, from the current (final) swarm.
+    ///
+    /// For a law that commands the drag area, the engine adds `mean_altitude_decay_m`: the decay of the
+    /// live satellites' mean altitude from the run's first orbit to its last \[m\] (absent for a run
+    /// shorter than an orbit; see [`Self::mean_altitude_first_and_last_orbit_m`]).
     pub fn law_results(&mut self) -> std::collections::BTreeMap<String, serde_json::Value> {
-        self.with_truth_view(|law, view, placement| law.results(view, placement))
+        let mut results = self.with_truth_view(|law, view, placement| law.results(view, placement));
+        if self.law.commands_drag() {
+            if let Some((first_m, last_m)) = self.mean_altitude_first_and_last_orbit_m() {
+                results.insert("mean_altitude_decay_m".into(), (first_m - last_m).into());
+            }
+        }
+        results
     }
 }
 
