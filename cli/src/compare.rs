@@ -18,6 +18,7 @@
 //! | `compare.md` | the side-by-side table (also on stdout): per law, median and 5–95 % spread ([`Spread`]) of each outcome |
 //! | `plots/` | overlays ([`crate::plot::overlay`]): the median over seeds of one metric over time, every law on one axis |
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -30,6 +31,7 @@ use satflock::output::{scalar_outcomes, RunData, RunTable, Spread};
 use satflock::run::{foreign_run_entry, run_scenario_with, RunError, RunOptions};
 use satflock::scenario::schema::{ActionSection, ControlMode};
 use satflock::scenario::{merge_law_parameters, Controller, Scenario};
+use satflock::swarm::Headline;
 
 use crate::plot::overlay::{draw_overlays, Curve, Overlay};
 
@@ -131,6 +133,8 @@ pub fn parse_seeds(text: &str) -> Result<Vec<u64>, String> {
 struct Law {
     label: String,
     controller: Controller,
+    /// The headline outcomes its law (at t = 0) declares.
+    headlines: &'static [Headline],
 }
 
 /// One run's result (job order: law-major, then seed).
@@ -185,7 +189,7 @@ pub fn compare(options: &CompareOptions) -> Result<CompareReport, CompareError> 
     let mut laws: Vec<Law> = Vec::new();
     for spec in &options.laws {
         let controller = Controller::load(spec).map_err(|e| input(e.to_string()))?;
-        check_controller(&controller).map_err(input)?;
+        let headlines = check_controller(&controller).map_err(input)?;
         let label = controller.label();
         if let Some(other) = laws.iter().find(|l| l.label == label) {
             return Err(input(format!(
@@ -194,7 +198,11 @@ pub fn compare(options: &CompareOptions) -> Result<CompareReport, CompareError> 
                 other.controller.source
             )));
         }
-        laws.push(Law { label, controller });
+        laws.push(Law {
+            label,
+            controller,
+            headlines,
+        });
     }
     let seeds = options
         .seeds
@@ -325,12 +333,17 @@ fn run_dir(out: &Path, label: &str, seed: u64) -> PathBuf {
 /// wrong in itself would be refused by every run): its law's parameters, its control period, and each
 /// law event's parameters or law (replayed in time order). The error names the file, the key and the
 /// allowed range, as `satflock run --law` does; what depends on the case (a law too stiff for its
-/// step, a formation of another size) is left to each run, which records it as refused.
-fn check_controller(controller: &Controller) -> Result<(), String> {
+/// step, a formation of another size) is left to each run, which records it as refused. Returns the
+/// headline outcomes of its law at t = 0.
+fn check_controller(controller: &Controller) -> Result<&'static [Headline], String> {
     let file = &controller.file;
     let fail =
         |key: &str, message: String| format!("{}: key `{key}`: {message}", controller.source);
-    file.law.build().map_err(|e| fail("law", e.to_string()))?;
+    let headlines = file
+        .law
+        .build()
+        .map_err(|e| fail("law", e.to_string()))?
+        .headlines();
     if let Some(control) = &file.control {
         match (control.mode, control.period_s) {
             (_, Some(p)) if !(p.is_finite() && p > 0.0) => {
@@ -367,7 +380,7 @@ fn check_controller(controller: &Controller) -> Result<(), String> {
             _ => {}
         }
     }
-    Ok(())
+    Ok(headlines)
 }
 
 /// Runs law `law` on the case with `seed`, into its directory, and reads back what it wrote.
@@ -447,13 +460,17 @@ fn run_table(laws: &[Law], jobs: &[(usize, u64)], results: &[RunResult]) -> RunT
 }
 
 /// A row of the side-by-side table: its label and the outcome column it summarises.
+#[derive(Clone)]
 struct Row {
-    label: &'static str,
-    column: &'static str,
+    label: Cow<'static, str>,
+    column: Cow<'static, str>,
 }
 
 const fn row(label: &'static str, column: &'static str) -> Row {
-    Row { label, column }
+    Row {
+        label: Cow::Borrowed(label),
+        column: Cow::Borrowed(column),
+    }
 }
 
 /// Outcomes of every run.
@@ -489,70 +506,32 @@ const FINAL_ROWS: &[Row] = &[
     row("final uniformity L [-]", "final.five_elements.uniformity_l"),
 ];
 
-/// Each law's headline outcomes (its `summary.json` `law` results), by law name.
-const HEADLINES: &[(&str, &[Row])] = &[
-    (
-        "bifurcating",
-        &[
-            row("bifurcating: time to shape [s]", "law.time_to_shape_s"),
-            row(
-                "bifurcating: final shape residual [m]",
-                "law.shape_max_residual_m",
-            ),
-        ],
-    ),
-    (
-        "equilibrium-shaping",
-        &[
-            row(
-                "equilibrium-shaping: final formation error [m]",
-                "law.es_formation_error_m",
-            ),
-            row(
-                "equilibrium-shaping: miss distance to its threat [m]",
-                "law.es_min_threat_distance_m",
-            ),
-        ],
-    ),
-    (
-        "pigeon",
-        &[
-            row("pigeon: order parameter [-]", "law.pigeon_order_parameter"),
-            row(
-                "pigeon: stabilisation time [s]",
-                "law.pigeon_stabilisation_time_s",
-            ),
-        ],
-    ),
-    (
-        "j2-distance",
-        &[
-            row("j2-distance: max abs C1 [m]", "law.max_abs_c1_m"),
-            row("j2-distance: max abs C4 [m]", "law.max_abs_c4_m"),
-            row(
-                "j2-distance: min connectable time [h]",
-                "law.min_connectable_time_h",
-            ),
-        ],
-    ),
-];
-
-/// The rows of the side-by-side table for this case and these laws, in order.
-fn rows(case: &Scenario, laws: &[Law]) -> Vec<&'static Row> {
-    let mut rows: Vec<&Row> = COMMON_ROWS.iter().collect();
+/// The rows of the side-by-side table for this case and these laws, in order: the outcomes of every
+/// run, those of the case's threats and obstacles, the final five elements, then each law's headline
+/// outcomes ([`satflock::swarm::GuidanceLaw::headlines`], declared by the law; once per law name, in
+/// the order of the first `--law` with it), and the wall time.
+fn rows(case: &Scenario, laws: &[Law]) -> Vec<Row> {
+    let mut rows: Vec<Row> = COMMON_ROWS.to_vec();
     if !case.file.threats.is_empty() {
-        rows.extend(THREAT_ROWS);
+        rows.extend_from_slice(THREAT_ROWS);
     }
     if !case.file.obstacles.is_empty() {
-        rows.extend(OBSTACLE_ROWS);
+        rows.extend_from_slice(OBSTACLE_ROWS);
     }
-    rows.extend(FINAL_ROWS);
-    for (name, headline) in HEADLINES {
-        if laws.iter().any(|l| l.controller.file.law.name() == *name) {
-            rows.extend(headline.iter());
+    rows.extend_from_slice(FINAL_ROWS);
+    let mut named: Vec<&str> = Vec::new();
+    for law in laws {
+        let name = law.controller.file.law.name();
+        if named.contains(&name) {
+            continue;
         }
+        named.push(name);
+        rows.extend(law.headlines.iter().map(|h| Row {
+            label: Cow::Owned(h.row_label(name)),
+            column: Cow::Owned(h.column()),
+        }));
     }
-    rows.push(&WALL_TIME);
+    rows.push(WALL_TIME);
     rows
 }
 
@@ -633,7 +612,7 @@ fn markdown(case: &Scenario, laws: &[Law], seeds: &[u64], table: &RunTable) -> S
         })
     ));
     for row in rows(case, laws) {
-        let column = table.numbers(row.column);
+        let column = table.numbers(&row.column);
         text.push_str(&format!(
             "| {} |{}\n",
             row.label,
@@ -884,6 +863,70 @@ mod tests {
         assert_eq!(format_cell(&Spread::of(&[5.0]), 1), "5.000");
         assert_eq!(format_cell(&Spread::of(&[0.0, 0.0]), 2), "0");
         assert_eq!(format_cell(&Spread::of(&[]), 2), "—");
+    }
+
+    /// The headline rows of the built-in laws, now declared by each law, are those `compare` always
+    /// showed (labels and columns, in order, after the final five elements and before the wall time),
+    /// once per law name; `hold` and `none` have none.
+    #[test]
+    fn built_in_laws_declare_the_headline_rows_compare_always_showed() {
+        let case = Scenario::load("hold").unwrap();
+        let law = |spec: &str, label: &str| {
+            let controller = Controller::load(spec).unwrap();
+            Law {
+                label: label.into(),
+                headlines: check_controller(&controller).unwrap(),
+                controller,
+            }
+        };
+        let laws = [
+            law("builtin:hold", "hold"),
+            law("builtin:gao-circle", "gao-circle"),
+            law("builtin:es-e1", "es-e1"),
+            law("builtin:pigeon-baseline", "pigeon-baseline"),
+            law("builtin:ts-plane-1", "ts-plane-1"),
+            law("builtin:gao-disk", "gao-disk"),
+            law("builtin:free-drift", "free-drift"),
+        ];
+        let rows = rows(&case, &laws);
+        let at = rows
+            .iter()
+            .position(|r| r.column == "final.five_elements.uniformity_l")
+            .unwrap();
+        let headline: Vec<(&str, &str)> = rows[at + 1..rows.len() - 1]
+            .iter()
+            .map(|r| (&*r.label, &*r.column))
+            .collect();
+        assert_eq!(
+            headline,
+            [
+                ("bifurcating: time to shape [s]", "law.time_to_shape_s"),
+                (
+                    "bifurcating: final shape residual [m]",
+                    "law.shape_max_residual_m"
+                ),
+                (
+                    "equilibrium-shaping: final formation error [m]",
+                    "law.es_formation_error_m"
+                ),
+                (
+                    "equilibrium-shaping: miss distance to its threat [m]",
+                    "law.es_min_threat_distance_m"
+                ),
+                ("pigeon: order parameter [-]", "law.pigeon_order_parameter"),
+                (
+                    "pigeon: stabilisation time [s]",
+                    "law.pigeon_stabilisation_time_s"
+                ),
+                ("j2-distance: max abs C1 [m]", "law.max_abs_c1_m"),
+                ("j2-distance: max abs C4 [m]", "law.max_abs_c4_m"),
+                (
+                    "j2-distance: min connectable time [h]",
+                    "law.min_connectable_time_h"
+                ),
+            ]
+        );
+        assert_eq!(rows.last().unwrap().column, "wall_time_s");
     }
 
     #[test]

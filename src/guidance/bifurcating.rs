@@ -37,7 +37,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::orbit::{gao_to_hill, hill_to_gao};
 use crate::relative::Hcw;
-use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView};
+use crate::swarm::{
+    Better, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+};
 
 /// Regularisation radius ε of the shape coordinate at the cone point ρ = 0 (resp. d = 0) \[m\]
 /// (method page §3.4: 10⁻⁶ km).
@@ -500,6 +502,19 @@ impl GuidanceLaw for Bifurcating {
 
     fn name(&self) -> &'static str {
         "bifurcating"
+    }
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new("time_to_shape_s", "time to shape", "s", Better::Lower),
+            Headline::new(
+                "shape_max_residual_m",
+                "final shape residual",
+                "m",
+                Better::Lower,
+            ),
+        ];
+        HEADLINES
     }
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {

@@ -51,7 +51,8 @@ use serde_json::{json, Value};
 
 use crate::relative::Hcw;
 use crate::swarm::{
-    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+    Better, Broadcast, CommandKind, GuidanceLaw, Headline, LawContext, LawError, SatelliteView,
+    SwarmFacts, SwarmView,
 };
 
 pub use desired::{DesiredVelocity, FieldSet, Tables, ThreatUse};
@@ -376,6 +377,24 @@ impl GuidanceLaw for EquilibriumShaping {
 
     fn name(&self) -> &'static str {
         "equilibrium-shaping"
+    }
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new(
+                "es_formation_error_m",
+                "final formation error",
+                "m",
+                Better::Lower,
+            ),
+            Headline::new(
+                "es_min_threat_distance_m",
+                "miss distance to its threat",
+                "m",
+                Better::Higher,
+            ),
+        ];
+        HEADLINES
     }
 
     fn command_kind(&self) -> CommandKind {

@@ -31,7 +31,7 @@ use crate::orbit::RelativeStateHill;
 use crate::relative::j2_averaged::{
     connectable_time_s, z_frequency_feedforward_m_s2, AveragedJ2, OrbitParameters, SwarmPlane,
 };
-use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
+use crate::swarm::{Better, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmView};
 
 use grouping::{group, Components, GroupingSettings, Node};
 
@@ -660,6 +660,20 @@ impl GuidanceLaw for J2Distance {
 
     fn name(&self) -> &'static str {
         "j2-distance"
+    }
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new("max_abs_c1_m", "max abs C1", "m", Better::Lower),
+            Headline::new("max_abs_c4_m", "max abs C4", "m", Better::Lower),
+            Headline::new(
+                "min_connectable_time_h",
+                "min connectable time",
+                "h",
+                Better::Higher,
+            ),
+        ];
+        HEADLINES
     }
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {

@@ -38,7 +38,8 @@ use nalgebra::{Vector2, Vector3};
 use serde_json::{json, Value};
 
 use crate::swarm::{
-    Broadcast, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+    Better, Broadcast, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmFacts,
+    SwarmView,
 };
 
 pub use parameters::PigeonParameters;
@@ -378,6 +379,24 @@ impl GuidanceLaw for Pigeon {
 
     fn name(&self) -> &'static str {
         "pigeon"
+    }
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new(
+                "pigeon_order_parameter",
+                "order parameter",
+                "-",
+                Better::Higher,
+            ),
+            Headline::new(
+                "pigeon_stabilisation_time_s",
+                "stabilisation time",
+                "s",
+                Better::Lower,
+            ),
+        ];
+        HEADLINES
     }
 
     fn initialise(

@@ -21,8 +21,8 @@ use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use super::{
-    Broadcast, CommandKind, GuidanceLaw, LawContext, LawError, Neighbour, OwnSample, SatelliteView,
-    SwarmFacts, SwarmView,
+    Broadcast, CommandKind, GuidanceLaw, Headline, LawContext, LawError, Neighbour, OwnSample,
+    SatelliteView, SwarmFacts, SwarmView,
 };
 use crate::swarm::storage_order::{permute, Placement};
 use crate::swarm::{Actuator, DragCommand, CHUNK};
@@ -100,6 +100,7 @@ trait ErasedLaw: Send + Sync {
     fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError>;
     fn output_names(&self) -> &'static [&'static str];
     fn metric_names(&self) -> &'static [&'static str];
+    fn headlines(&self) -> &'static [Headline];
     fn initialise(
         &mut self,
         swarm: &SwarmView<'_>,
@@ -190,6 +191,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn metric_names(&self) -> &'static [&'static str] {
         self.law.metric_names()
+    }
+
+    fn headlines(&self) -> &'static [Headline] {
+        self.law.headlines()
     }
 
     fn initialise(
@@ -459,6 +464,11 @@ impl Law {
     /// Names of the law's metrics ([`GuidanceLaw::metric_names`]).
     pub fn metric_names(&self) -> &'static [&'static str] {
         self.0.metric_names()
+    }
+
+    /// The law's headline outcomes ([`GuidanceLaw::headlines`]).
+    pub fn headlines(&self) -> &'static [Headline] {
+        self.0.headlines()
     }
 
     /// The formation the law steers to, Hill frame relative to the LVLH origin \[m\]

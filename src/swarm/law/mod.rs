@@ -6,6 +6,8 @@
 //! * [`SatelliteView`] / [`SwarmView`] (module `view`): the read-only sensing views the engine builds.
 //! * [`LawContext`] (module `context`): what a law may use besides its view — its own random stream, the
 //!   control period and its satellite's actuator.
+//! * [`Headline`] (module `headline`): a law's headline outcomes ([`GuidanceLaw::headlines`]), the
+//!   rows `satflock compare` shows for it.
 //! * [`Law`] (module `handle`): a law together with the per-satellite states of every satellite, as the
 //!   engine holds it; it runs the double-buffered state update in parallel.
 //!
@@ -23,6 +25,7 @@
 
 mod context;
 mod handle;
+mod headline;
 #[cfg(test)]
 mod test_swarm;
 mod view;
@@ -37,6 +40,7 @@ use crate::swarm::DragCommand;
 pub use context::LawContext;
 pub(crate) use handle::{own_batch, TickEvaluation, OWN_BATCH};
 pub use handle::{Law, LawParameters};
+pub use headline::{Better, Headline};
 pub(crate) use view::OwnSample;
 pub use view::{
     Broadcast, EnvironmentView, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,
@@ -237,6 +241,13 @@ pub trait GuidanceLaw: Send + Sync + 'static {
     /// Default: none, for laws whose target is not a fixed set of points in the LVLH frame.
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
         None
+    }
+
+    /// The law's headline outcomes: keys of [`GuidanceLaw::results`] that say how well it did, with
+    /// their labels, units and which way is better (`satflock compare` shows them as rows of its table,
+    /// in this order). Default: none.
+    fn headlines(&self) -> &'static [Headline] {
+        &[]
     }
 
     /// Law-specific results for `summary.json`, from the final swarm and states. Default: none.
