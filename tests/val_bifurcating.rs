@@ -325,6 +325,7 @@ fn config(step_s: f64, control: ControlTiming, range_m: f64) -> SimulationConfig
             range_m,
             position_noise_m: 0.0,
             velocity_noise_mps: 0.0,
+            ring_neighbours: None,
         },
         process_noise_m_s2: 0.0,
         threats: vec![],

@@ -47,6 +47,7 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
             range_m: 100.0,
             position_noise_m: 0.0,
             velocity_noise_mps: 0.0,
+            ring_neighbours: None,
         },
         process_noise_m_s2: 0.0,
         threats: vec![],

@@ -123,6 +123,7 @@ fn config(
             range_m,
             position_noise_m: 0.0,
             velocity_noise_mps: 0.0,
+            ring_neighbours: None,
         },
         process_noise_m_s2: 0.0,
         threats: vec![],

@@ -92,6 +92,12 @@ fn val_malformed_scenarios_get_clear_errors() {
             &["case.toml", "count"],
         ),
         (
+            "ring of no neighbours",
+            "[law]",
+            "[sensing]\nring_neighbours = 0\n\n[law]",
+            &["case.toml", "sensing.ring_neighbours", "allowed: an integer >= 1"],
+        ),
+        (
             "negative release dispersion",
             "initial = { distribution = \"sphere\", radius_m = 50.0 }",
             "initial = { distribution = \"dispenser\", spacing_m = 2.0, release_speed_mps = [-0.1, 0.1], release_dispersion_mps = -0.01 }",

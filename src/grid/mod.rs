@@ -42,6 +42,9 @@
 //! storage order instead (storage order is the cell order above).
 
 mod prefilter;
+mod ring;
+
+pub use ring::RingOrder;
 
 use std::ops::Range;
 

@@ -27,9 +27,10 @@
 //! mode when `σ > δ` (ahead: fall back), the high-drag mode when `σ < −δ` (behind: catch up), and the
 //! low-drag mode (which saves altitude) inside the dead band `|σ| ≤ δ` (δ = `deadband_deg`).
 //!
-//! It needs to sense its ring neighbours: a sensing range covering the flock's arc (for 12 satellites over
-//! a whole orbit, the orbit's diameter; the engine's grid then visits every satellite, which is cheap for
-//! a few dozen). It cannot change the plane, and its time to phase grows as 1/ΔB (method page).
+//! With `slots = "flock"` it needs to sense the flock: a sensing range covering the flock's arc (for 12
+//! satellites over a whole orbit, the orbit's diameter), or a ring neighbourhood covering it
+//! (`[sensing] ring_neighbours`); sensing only part of the flock, it uses the run of consecutive ranks
+//! around its own. It cannot change the plane, and its time to phase grows as 1/ΔB (method page).
 
 use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
@@ -303,6 +304,21 @@ impl GuidanceLaw for DifferentialDrag {
                     }
                 });
                 sensed.sort_by_key(|e| e.0);
+                // Sensing part of the flock (a ring neighbourhood, or a range shorter than the
+                // flock): only the run of consecutive ranks around its own, so a neighbour across
+                // the flock's ends (the last rank seen behind the first) is not taken for a near one.
+                if sensed.len() < self.ranked {
+                    let own = sensed.partition_point(|e| e.0 < own_rank);
+                    let first = (0..own)
+                        .rev()
+                        .find(|&k| sensed[k].0 + 1 != sensed[k + 1].0)
+                        .map_or(0, |k| k + 1);
+                    let last = (own..sensed.len() - 1)
+                        .find(|&k| sensed[k].0 + 1 != sensed[k + 1].0)
+                        .unwrap_or(sensed.len() - 1);
+                    sensed.truncate(last + 1);
+                    sensed.drain(..first);
+                }
                 self.error_rad(own_rank, &sensed)
             }
         };

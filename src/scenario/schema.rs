@@ -425,6 +425,10 @@ pub struct SensingSection {
     /// Navigation velocity noise, standard deviation per axis \[m/s\] (default 0).
     #[serde(default)]
     pub velocity_noise_mps: f64,
+    /// Ring neighbourhood: each satellite senses this many satellites nearest ahead along the orbit
+    /// and as many behind, at any distance, instead of those within `range_m` (absent: by range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ring_neighbours: Option<u32>,
 }
 
 fn default_range() -> f64 {
@@ -437,6 +441,7 @@ impl Default for SensingSection {
             range_m: default_range(),
             position_noise_m: 0.0,
             velocity_noise_mps: 0.0,
+            ring_neighbours: None,
         }
     }
 }

@@ -638,10 +638,21 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
             ),
         ));
     }
+    let ring_neighbours = match f.sensing.ring_neighbours {
+        Some(0) => {
+            return Err(c.invalid(
+                "sensing.ring_neighbours",
+                "0 is out of range (allowed: an integer >= 1, the satellites sensed on each side along \
+                 the orbit; leave the key out to sense by range)",
+            ))
+        }
+        k => k.map(|k| k as usize),
+    };
     let sensing = Sensing {
         range_m,
         position_noise_m,
         velocity_noise_mps,
+        ring_neighbours,
     };
 
     let process_noise_m_s2 =

@@ -9,7 +9,7 @@
 use nalgebra::Vector3;
 
 use crate::environment::{Obstacle, Threat};
-use crate::grid::NeighbourGrid;
+use crate::grid::{NeighbourGrid, RingOrder};
 use crate::orbit::RelativeStateHill;
 use crate::relative::SchweighartSedwick;
 use crate::swarm::storage_order::Placement;
@@ -144,6 +144,9 @@ pub struct SwarmView<'a> {
     /// order of its own (`None`: entry `i` is satellite `i`). Views a law's whole-swarm hooks get are
     /// always by id.
     placement: Option<Placement<'a>>,
+    /// The ring neighbourhood (`[sensing] ring_neighbours`), over the same entries as the slices: when
+    /// present, a satellite senses its ring neighbours instead of the satellites within range.
+    ring: Option<&'a RingOrder>,
 }
 
 /// What a law may check about the swarm it will steer before it runs: the same facts at load time (from
@@ -207,6 +210,17 @@ impl<'a> SwarmView<'a> {
             shared,
             environment,
             placement: None,
+            ring: None,
+        }
+    }
+
+    /// This view with a ring neighbourhood over its entries (built over the same navigation states):
+    /// each satellite then senses its ring neighbours, whatever their distance, instead of the grid's
+    /// satellites within range.
+    pub fn with_ring(self, ring: &'a RingOrder) -> Self {
+        Self {
+            ring: Some(ring),
+            ..self
         }
     }
 
@@ -377,21 +391,28 @@ impl SatelliteView<'_> {
         &self.swarm.shared
     }
 
-    /// Visits every live, linked neighbour within sensing range, in a deterministic order.
+    /// Visits every live, linked neighbour within sensing range, in a deterministic order; with a ring
+    /// neighbourhood (`[sensing] ring_neighbours = k`), the k live, linked satellites nearest ahead
+    /// along the orbit and the k nearest behind, at any distance (ahead first, nearest first).
     /// A satellite whose own links are cut sees nobody; nor does anyone while the grid is empty (a
     /// non-finite navigation position left it unbuilt; the divergence check then stops the run).
     pub fn for_each_neighbour(&self, visit: impl FnMut(&Neighbour)) {
-        self.for_each_neighbour_within(self.swarm.grid.radius_m(), visit);
+        let reach_m = match self.swarm.ring {
+            Some(_) => f64::INFINITY,
+            None => self.swarm.grid.radius_m(),
+        };
+        self.for_each_neighbour_within(reach_m, visit);
     }
 
     /// [`Self::for_each_neighbour`] restricted to the neighbours within `reach_m` \[m\] (capped at the
-    /// sensing range, the radius of the view's grid): the same neighbours, in the same order, as filtering that walk by
+    /// sensing range, the radius of the view's grid, unless the view has a ring neighbourhood): the
+    /// same neighbours, in the same order, as filtering that walk by
     /// `distance_m <= reach_m`, but a reach well below the sensing range lets the grid skip whole
     /// cells. For a law whose neighbour terms vanish beyond a radius of its own.
     pub fn for_each_neighbour_within(&self, reach_m: f64, mut visit: impl FnMut(&Neighbour)) {
         let s = &self.swarm;
         // (A NaN reach stays NaN: nobody is within it.)
-        let reach_m = if reach_m > s.grid.radius_m() {
+        let reach_m = if s.ring.is_none() && reach_m > s.grid.radius_m() {
             s.grid.radius_m()
         } else {
             reach_m
@@ -408,6 +429,24 @@ impl SatelliteView<'_> {
             .own
             .map_or_else(|| s.links_up[self.index], |own| own.links_up);
         if !links_up || self.index >= s.grid.len() {
+            return;
+        }
+        if let Some(ring) = s.ring {
+            let own = self.own_state().position_m;
+            ring.for_each_neighbour(self.index, |index| {
+                let state = s.relative_states[index];
+                let offset_m = state.position_m - own;
+                let distance_m = offset_m.norm();
+                if distance_m <= reach_m {
+                    visit(&Neighbour {
+                        index,
+                        id: s.id_at(index),
+                        state,
+                        offset_m,
+                        distance_m,
+                    });
+                }
+            });
             return;
         }
         let mut report = |nb: crate::grid::Neighbour| {

@@ -44,6 +44,10 @@ pub struct Sensing {
     pub position_noise_m: f64,
     /// Standard deviation of each satellite's navigation velocity error, per Hill axis \[m/s\].
     pub velocity_noise_mps: f64,
+    /// The ring neighbourhood: when given, each satellite senses this many live, linked satellites
+    /// nearest ahead along the orbit and as many behind, at any distance, instead of those within
+    /// `range_m` (threats and obstacles are still sensed within range).
+    pub ring_neighbours: Option<usize>,
 }
 
 impl Sensing {

@@ -5,7 +5,7 @@
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::grid::NeighbourGrid;
+use crate::grid::{NeighbourGrid, RingOrder};
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::relative::SchweighartSedwick;
 use crate::swarm::actuator::Actuator;
@@ -46,6 +46,10 @@ pub(super) struct Sensed {
     y: Vec<f64>,
     z: Vec<f64>,
     pub grid: NeighbourGrid,
+    /// The navigation phases along the orbit \[rad\] and the ring over them (`[sensing]
+    /// ring_neighbours`; empty otherwise).
+    phases_rad: Vec<f64>,
+    ring: RingOrder,
 }
 
 impl Sensed {
@@ -56,6 +60,8 @@ impl Sensed {
             y: vec![0.0; n],
             z: vec![0.0; n],
             grid: NeighbourGrid::new(),
+            phases_rad: Vec::new(),
+            ring: RingOrder::new(),
         }
     }
 
@@ -294,13 +300,30 @@ impl<'a> Plant<'a> {
             y,
             z,
             grid,
+            phases_rad,
+            ring,
         } = sensed;
         // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
         // the divergence check after the segment then stops the run and names the satellite.
         if rebuild_grid([x, y, z], grid, navigation, range_m, ranks) {
             grid.mask(|i| active[i] && links_up[i]);
         }
-        SwarmView::new(
+        let ring = self.config.sensing.ring_neighbours.map(|each_side| {
+            // The phase along the orbit ahead of the origin, `atan2(y, R + x)` (R the reference
+            // orbit's radius at t = 0), ordered once per evaluation: O(N log N).
+            let radius_m = self.reference_model.reference_radius_m();
+            phases_rad.resize(navigation.len(), 0.0);
+            phases_rad
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .zip(navigation.par_iter())
+                .for_each(|(phase, nav)| {
+                    *phase = nav.position_m.y.atan2(radius_m + nav.position_m.x);
+                });
+            ring.build(phases_rad, ranks, |i| active[i] && links_up[i], each_side);
+            &*ring
+        });
+        let view = SwarmView::new(
             navigation,
             masses_kg,
             active,
@@ -313,7 +336,11 @@ impl<'a> Plant<'a> {
                 threat_warnings: self.threat_warnings,
             },
         )
-        .in_storage_order(placement)
+        .in_storage_order(placement);
+        match ring {
+            Some(ring) => view.with_ring(ring),
+            None => view,
+        }
     }
 
     /// The law context of the satellite at storage index `index` at tick `tick` (time `time_s`), for
