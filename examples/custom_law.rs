@@ -17,130 +17,20 @@
 //!   natural acceleration of the centroid cancelled, u = −k_p ĉ − k_d ċ − a_HCW(ĉ, ċ). HCW being linear,
 //!   the centroid then obeys c̈ = −k_p c − k_d ċ and each satellite's offset from it moves freely.
 //!
+//! The law's code is in `examples/custom_law/centring.rs`; this example drives it by hand on a
+//! prepared scenario. `examples/custom_law_cli.rs` registers the same law in a `satflock` binary of its
+//! own, so scenario and controller files (`examples/custom_law.toml`) can name it.
+//!
 //! Run it with `cargo run --release --example custom_law`.
 
-use nalgebra::{Vector3, Vector6};
-use satflock::relative::Hcw;
+use nalgebra::Vector3;
 use satflock::scenario::Scenario;
-use satflock::swarm::{
-    Broadcast, GuidanceLaw, Law, LawContext, LawError, Recorder, SatelliteView, Simulation,
-    Snapshot, SwarmView,
-};
+use satflock::swarm::{Law, Recorder, Simulation, Snapshot};
 
-/// The law's parameters (what a `set-law-parameters` event would replace).
-#[derive(Clone, Debug)]
-struct CentringParameters {
-    stiffness_per_s2: f64,
-    damping_per_s: f64,
-    /// Standard deviation of the random dither added to each estimate per tick [m].
-    dither_m: f64,
-}
-
-/// What each satellite remembers between ticks (and broadcasts to its neighbours).
-#[derive(Clone, Default)]
-struct Memory {
-    /// Estimated centroid state [m, m/s], Hill frame.
-    centroid: Vector6<f64>,
-    /// Own (sensed) state at the previous tick [m, m/s].
-    last_own: Vector6<f64>,
-    neighbours: usize,
-}
-
-struct Centring(CentringParameters);
-
-impl GuidanceLaw for Centring {
-    type State = Memory;
-    type Parameters = CentringParameters;
-
-    fn name(&self) -> &'static str {
-        "centring"
-    }
-
-    /// Start: every satellite's first guess of the centroid is its own state.
-    fn initialise(&mut self, swarm: &SwarmView<'_>, states: &mut [Memory]) -> Result<(), LawError> {
-        for (i, memory) in states.iter_mut().enumerate() {
-            let mut neighbours = 0;
-            swarm.satellite(i).for_each_neighbour(|_| neighbours += 1);
-            let own = swarm.relative_states[i].to_vector6();
-            *memory = Memory {
-                centroid: own,
-                last_own: own,
-                neighbours,
-            };
-        }
-        Ok(())
-    }
-
-    /// One consensus step from the previous tick's states (own and neighbours').
-    fn update_state(
-        &self,
-        satellite: &SatelliteView<'_>,
-        broadcast: &Broadcast<'_, Memory>,
-        context: &LawContext,
-    ) -> Memory {
-        let me = broadcast.own();
-        let own = satellite.own_state().to_vector6();
-        let mut centroid = me.centroid;
-        let mut neighbours = 0;
-        satellite.for_each_neighbour(|nb| {
-            let other = broadcast.of(nb);
-            let weight = 1.0 / (1.0 + me.neighbours.max(other.neighbours) as f64);
-            centroid += weight * (other.centroid - me.centroid);
-            neighbours += 1;
-        });
-        centroid += own - me.last_own;
-        let mut random = context.random();
-        for k in 0..3 {
-            centroid[k] += self.0.dither_m * random.standard_normal();
-        }
-        Memory {
-            centroid,
-            last_own: own,
-            neighbours,
-        }
-    }
-
-    /// PD on the estimated centroid state, with the centroid's HCW natural acceleration cancelled.
-    fn command(
-        &self,
-        satellite: &SatelliteView<'_>,
-        state: &Memory,
-        _c: &LawContext,
-    ) -> Vector3<f64> {
-        let c = state.centroid.fixed_rows::<3>(0).into_owned();
-        let c_dot = state.centroid.fixed_rows::<3>(3).into_owned();
-        let hcw = Hcw::new(satellite.shared().mean_motion_rad_s);
-        -self.0.stiffness_per_s2 * c
-            - self.0.damping_per_s * c_dot
-            - hcw.natural_acceleration_m_s2(&c, &c_dot)
-    }
-
-    fn set_parameters(&mut self, parameters: &CentringParameters) -> Result<(), LawError> {
-        self.0 = parameters.clone();
-        Ok(())
-    }
-
-    /// Lets the engine refuse a control period too long for the gains (roots of s² + k_d s + k_p).
-    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
-        let (kp, kd) = (self.0.stiffness_per_s2, self.0.damping_per_s);
-        let disc = kd * kd - 4.0 * kp;
-        Some(if disc > 0.0 {
-            0.5 * (kd + disc.sqrt())
-        } else {
-            kp.sqrt()
-        })
-    }
-
-    /// Per-satellite outputs: written as trajectory columns by the CLI, read below by our recorder.
-    fn output_names(&self) -> &'static [&'static str] {
-        &["centroid_x_m", "centroid_y_m", "centroid_z_m", "neighbours"]
-    }
-
-    fn write_outputs(&self, state: &Memory, values: &mut [f64]) {
-        values[..3].copy_from_slice(&state.centroid.as_slice()[..3]);
-        values[3] = state.neighbours as f64;
-    }
-}
+// The law itself, shared with `examples/custom_law_cli.rs` (which registers it in a `satflock` binary).
+#[path = "custom_law/centring.rs"]
+mod centring;
+use centring::{Centring, CentringParameters};
 
 /// A small in-memory recorder: one table row per recording time.
 #[derive(Default)]
@@ -186,11 +76,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for satellite in &mut prepared.satellites {
         satellite.relative_state.position_m += offset;
     }
-    let law = Law::new(Centring(CentringParameters {
+    let law = Law::new(Centring::new(CentringParameters {
         stiffness_per_s2: 1e-4,
         damping_per_s: 2e-2,
         dither_m: 0.01,
-    }));
+    })?);
     let mut sim = Simulation::new(prepared.config, &prepared.satellites, law, Vec::new())?;
     let mut table = Table::default();
     sim.run(&mut table, &mut |_| {})?;

@@ -13,10 +13,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use anyhow::{bail, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use crate::plot::{draw_campaign, PlotParameter};
 use satflock::campaign::{
     run_campaign, table, Campaign, CampaignError, RunEvent, RunnerOptions, Status,
 };
-use satflock_cli::plot::{draw_campaign, PlotParameter};
 
 use crate::{install_signal_handlers, usage, Interrupted, MAX_THREADS};
 

@@ -1,8 +1,11 @@
 //! Guidance laws and their registry.
 //!
-//! A law implements [`crate::swarm::GuidanceLaw`] (wrapped as a [`crate::swarm::Law`] for the engine); the registry ([`LawConfig`]) is the closed set of
-//! laws a scenario file can name, each with its own parameter table. Adding a law means a module here
-//! and a variant of [`LawConfig`]; the engine does not change.
+//! A law implements [`crate::swarm::GuidanceLaw`] (wrapped as a [`crate::swarm::Law`] for the engine).
+//! [`LawConfig`] is a `[law]` table of a scenario file: one variant per built-in law, each with its own
+//! parameter table, and [`LawConfig::Registered`] for a law a program registered in the open
+//! [`LawRegistry`] (module [`registry`]: a name and a builder from the law's typed parameters;
+//! `docs/writing-a-law.md`). Adding a built-in law means a module here and a variant of [`LawConfig`];
+//! adding a law of your own means registering it; the engine does not change either way.
 //!
 //! | name | module | what it does |
 //! | --- | --- | --- |
@@ -21,15 +24,25 @@ pub mod free_drift;
 pub mod hold;
 pub mod j2_distance;
 pub mod pigeon;
+pub mod registry;
 
-use serde::{Deserialize, Serialize};
+pub use registry::{LawRegistry, RegisteredLaw, RegistryError};
+
+use serde::de::Error as _;
+use serde::ser::SerializeMap as _;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::swarm::{Law, LawError, LawParameters};
 
 /// The laws a scenario can name, with their parameters (the `[law]` table of a scenario file; the key
-/// `name` selects the law).
+/// `name` selects the law): the built-in laws, and the laws registered in the process's
+/// [`LawRegistry`] ([`LawConfig::Registered`]).
+///
+/// Deserialise it through the `Deserialize` trait (`toml::from_str`, `<LawConfig as
+/// Deserialize>::deserialize`): the associated function `LawConfig::deserialize` (serde's derive for
+/// the built-in variants) knows the built-in laws only.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "name", rename_all = "kebab-case")]
+#[serde(tag = "name", rename_all = "kebab-case", remote = "Self")]
 pub enum LawConfig {
     /// No control.
     None(free_drift::FreeDriftParameters),
@@ -45,10 +58,60 @@ pub enum LawConfig {
     Pigeon(Box<pigeon::PigeonParameters>),
     /// Along-track phasing by differential drag (ours).
     DifferentialDrag(differential_drag::DifferentialDragParameters),
+    /// A law registered in the process's [`LawRegistry`] (not a built-in).
+    #[serde(skip)]
+    Registered(RegisteredLaw),
+}
+
+impl Serialize for LawConfig {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            LawConfig::Registered(law) => {
+                let mut map = serializer.serialize_map(Some(law.table().len() + 1))?;
+                map.serialize_entry("name", law.name())?;
+                for (key, value) in law.table() {
+                    map.serialize_entry(key, value)?;
+                }
+                map.end()
+            }
+            // serde's derive for the built-in variants (`remote = "Self"`).
+            builtin => LawConfig::serialize(builtin, serializer),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for LawConfig {
+    /// A built-in law's table, or a law registered in the process's [`LawRegistry`]; any other name is
+    /// refused, naming every law the registry knows.
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let mut table = toml::Table::deserialize(deserializer)?;
+        let message = |e: toml::de::Error| D::Error::custom(e.message());
+        let name = match table.get("name") {
+            Some(toml::Value::String(name)) if !LawConfig::NAMES.contains(&name.as_str()) => {
+                name.clone()
+            }
+            // A built-in law, or a table without a (string) name: serde's derive says what is wrong.
+            _ => return LawConfig::deserialize(table).map_err(message),
+        };
+        let registry = LawRegistry::installed();
+        table.remove("name");
+        match registry.parse_registered(&name, table) {
+            Some(law) => law.map(LawConfig::Registered).map_err(message),
+            None => Err(D::Error::custom(format!(
+                "unknown variant `{name}`, expected one of {}",
+                registry
+                    .names()
+                    .iter()
+                    .map(|n| format!("`{n}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))),
+        }
+    }
 }
 
 impl LawConfig {
-    /// Registry names of every law, for error messages and `satflock scenarios`.
+    /// Names of the built-in laws (with the registered ones: [`LawRegistry::names`]).
     pub const NAMES: &'static [&'static str] = &[
         "none",
         "hold",
@@ -73,6 +136,7 @@ impl LawConfig {
             LawConfig::DifferentialDrag(p) => {
                 Law::new(differential_drag::DifferentialDrag::new(p.clone())?)
             }
+            LawConfig::Registered(law) => law.build()?,
         })
     }
 
@@ -86,6 +150,7 @@ impl LawConfig {
             LawConfig::EquilibriumShaping(_) => "equilibrium-shaping",
             LawConfig::Pigeon(_) => "pigeon",
             LawConfig::DifferentialDrag(_) => "differential-drag",
+            LawConfig::Registered(law) => law.name(),
         }
     }
 
@@ -99,6 +164,7 @@ impl LawConfig {
             LawConfig::EquilibriumShaping(p) => LawParameters::new(*p),
             LawConfig::Pigeon(p) => LawParameters::new(*p),
             LawConfig::DifferentialDrag(p) => LawParameters::new(p),
+            LawConfig::Registered(law) => law.parameters(),
         }
     }
 }

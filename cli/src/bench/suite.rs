@@ -16,7 +16,7 @@
 //! * `five-elements`: the five-element characterisation of 10^5 positions (one call).
 //!
 //! The `j2-distance` law is not in the suite: its grouping step is centralised over the whole swarm.
-//! The simulations are built in `satflock_cli::bench_cases`. Timings are wall clock; nothing here is
+//! The simulations are built in `crate::bench_cases`. Timings are wall clock; nothing here is
 //! asserted by tests.
 
 use std::fmt::Write as _;
@@ -24,11 +24,11 @@ use std::path::Path;
 use std::process::Command;
 use std::time::Instant;
 
+use crate::bench_cases::simulation;
 use anyhow::{bail, Context, Result};
 use nalgebra::Vector3;
 use satflock::metrics::{five_elements, FiveElementsWorkspace};
 use satflock::scenario::initial;
-use satflock_cli::bench_cases::simulation;
 
 /// The cases: name, the law that runs (if any), and the largest N measured.
 const CASES: &[(&str, Option<&str>, usize)] = &[
