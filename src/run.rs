@@ -55,15 +55,18 @@ pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
 }
 
 /// [`build_simulation`] from a scenario already prepared, e.g. with a caller's law
-/// ([`crate::scenario::Prepared::replace_law`]).
+/// ([`crate::scenario::Prepared::replace_law`]). The simulation records the control history when the
+/// scenario asks for it (`[output] control_history`).
 pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulation, RunError> {
-    Simulation::new(
+    let mut simulation = Simulation::new(
         prepared.config,
         &prepared.satellites,
         prepared.law,
         prepared.events,
     )
-    .map_err(|e| setup_error(scenario, e))
+    .map_err(|e| setup_error(scenario, e))?;
+    simulation.set_control_history(scenario.file.output.control_history);
+    Ok(simulation)
 }
 
 /// A refusal of the engine's setup (after validation) is the scenario's fault: it becomes a
@@ -304,6 +307,7 @@ pub fn run_prepared(
         prepared.events,
     )
     .map_err(|e| setup_error(scenario, e))?;
+    simulation.set_control_history(scenario.file.output.control_history);
     if let Some(flag) = &options.cancel {
         simulation.set_cancel_flag(flag.clone());
     }

@@ -320,3 +320,49 @@ fn val_drag_figure_of_a_drag_attitude_run() {
     draw_run(&threat).unwrap();
     assert!(!threat.join("plots/drag.png").exists());
 }
+
+/// A run that records its control history (`[output] control_history`) also gets the `control` figure
+/// (applied and commanded acceleration norms of the first five satellites, saturation timeline), which
+/// the HTML report shows; a run without the history does not get it (nothing is skipped).
+#[test]
+fn val_control_figure_of_a_control_history_run() {
+    let dir = temp_dir("control");
+    let run = run_builtin(
+        &dir,
+        "hold",
+        &[
+            ("duration_s = 4000.0", "duration_s = 1100.0"),
+            (
+                "record_interval_s = 10.0",
+                "record_interval_s = 10.0\n\n[output]\ncontrol_history = true",
+            ),
+            ("time_s = 2000.0", "time_s = 1050.0"),
+        ],
+    );
+    let report = draw_run(&run).unwrap();
+    assert!(report.skipped.is_empty(), "{report:?}");
+    check_figures(
+        &run,
+        &[("control", (1400, 900))],
+        &[(
+            "control",
+            &[
+                "‖u‖ [m/s²]",
+                "satellite id [-]",
+                "t [s]",
+                "the first 5 of 20 satellites",
+                "satellite 4",
+                "saturation timeline",
+            ],
+        )],
+    );
+    let first = std::fs::read(run.join("plots/control.png")).unwrap();
+    draw_run(&run).unwrap();
+    assert_eq!(first, std::fs::read(run.join("plots/control.png")).unwrap());
+    let html = satflock_cli::report::render(&run).unwrap();
+    assert!(html.contains("<figcaption>control.svg</figcaption>"));
+    let threat = run_builtin(&dir, "es-e0", &[]);
+    draw_run(&threat).unwrap();
+    assert!(!threat.join("plots/control.png").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

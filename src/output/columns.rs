@@ -76,6 +76,7 @@ const COUNT_COLUMNS: &[&str] = &[
     "threat_incursions",
     "obstacle_incursions",
     "drag_switches",
+    "saturated",
 ];
 
 /// Columns whose vector components are in the inertial frame besides the `*_eme2000_*` ones: the five
@@ -90,11 +91,17 @@ const INERTIAL_COLUMNS: &[&str] = &[
 ];
 
 /// Columns whose components are along the Hill LVLH axes besides the `*_lvlh_*` ones: the mean delta-v
-/// ledger per axis.
+/// ledger per axis, the commanded and applied accelerations of the control history.
 const LVLH_COLUMNS: &[&str] = &[
     "delta_v_x_mean_mps",
     "delta_v_y_mean_mps",
     "delta_v_z_mean_mps",
+    "ux_cmd_mps2",
+    "uy_cmd_mps2",
+    "uz_cmd_mps2",
+    "ux_mps2",
+    "uy_mps2",
+    "uz_mps2",
 ];
 
 /// Units by the last `_` part of a column name (SI and the few non-SI units the laws report).
@@ -192,12 +199,37 @@ pub struct OutputColumns {
     /// Whether a satellite has drag attitudes: the drag area of every satellite in `trajectory`
     /// ([`DRAG_TRAJECTORY_COLUMN`]) and the drag changes so far in `metrics` ([`DRAG_METRIC_COLUMN`]).
     pub drag: bool,
+    /// Whether the control history is recorded (`[output] control_history`): the commands and their
+    /// saturation in `trajectory` ([`CONTROL_TRAJECTORY_COLUMNS`]) and their summary in `metrics`
+    /// ([`CONTROL_METRIC_COLUMNS`]).
+    pub control: bool,
 }
 
 /// The `trajectory` column of the drag area of each satellite \[m^2\] (runs with drag attitudes).
 pub const DRAG_TRAJECTORY_COLUMN: &str = "drag_area_m2";
 /// The `metrics` column of the drag-area changes of every satellite so far (runs with drag attitudes).
 pub const DRAG_METRIC_COLUMN: &str = "drag_switches";
+
+/// The `trajectory` columns of the control history (`[output] control_history`), per satellite: the
+/// law's commanded acceleration before the actuator (`u*_cmd_mps2`) and the applied acceleration after
+/// it (`u*_mps2`: saturation and failed axes; process noise not included), Hill LVLH axes \[m/s^2\],
+/// and `saturated`, 1 where the actuator limited the command (the two differ), else 0. In sampled
+/// control a row holds the command of the last control tick at or before its time (zeros at t = 0,
+/// before the first tick); in continuous control the command evaluated at the row's state.
+pub const CONTROL_TRAJECTORY_COLUMNS: &[&str] = &[
+    "ux_cmd_mps2",
+    "uy_cmd_mps2",
+    "uz_cmd_mps2",
+    "ux_mps2",
+    "uy_mps2",
+    "uz_mps2",
+    "saturated",
+];
+
+/// The `metrics` columns of the control history: the fraction of the live satellites whose command
+/// the actuator limited, and the mean norm of the live satellites' commanded accelerations \[m/s^2\]
+/// (NaN without a live satellite).
+pub const CONTROL_METRIC_COLUMNS: &[&str] = &["saturated_fraction", "mean_command_mps2"];
 
 impl OutputColumns {
     /// The columns of a simulation's tables: threat and obstacle monitors where its scenario has
@@ -209,6 +241,7 @@ impl OutputColumns {
             law_metrics: simulation.law_metric_names(),
             law_outputs: simulation.law_output_names(),
             drag: simulation.has_drag_attitudes(),
+            control: simulation.records_control_history(),
         }
     }
 
@@ -224,6 +257,9 @@ impl OutputColumns {
         if self.drag {
             names.push(DRAG_METRIC_COLUMN);
         }
+        if self.control {
+            names.extend_from_slice(CONTROL_METRIC_COLUMNS);
+        }
         names.extend_from_slice(&self.law_metrics);
         names.into_iter().map(Column::new).collect()
     }
@@ -233,6 +269,7 @@ impl OutputColumns {
         TRAJECTORY_HEADER
             .iter()
             .chain(self.drag.then_some(&DRAG_TRAJECTORY_COLUMN))
+            .chain(CONTROL_TRAJECTORY_COLUMNS.iter().filter(|_| self.control))
             .chain(&self.law_outputs)
             .map(|n| Column::new(n))
             .collect()
@@ -306,6 +343,27 @@ impl Record {
         if columns.drag {
             m.push(s.drag_switches as f64);
         }
+        // The control history is empty when the simulation does not record it (NaN then).
+        let control = |i: usize| s.commanded_hill_mps2.get(i).zip(s.applied_hill_mps2.get(i));
+        if columns.control {
+            let (mut limited, mut norms, mut known) = (0usize, 0.0, 0usize);
+            for &i in &live {
+                if let Some((commanded, applied)) = control(i) {
+                    limited += usize::from(commanded != applied);
+                    norms += commanded.norm();
+                    known += 1;
+                }
+            }
+            let per = |x: f64| {
+                if known > 0 {
+                    x / known as f64
+                } else {
+                    f64::NAN
+                }
+            };
+            m.push(per(limited as f64));
+            m.push(per(norms));
+        }
         // Law metrics: a value where the running law has the column, NaN where it does not.
         for column in &columns.law_metrics {
             m.push(
@@ -317,8 +375,14 @@ impl Record {
         }
 
         self.trajectory.clear();
-        self.trajectory_width =
-            TRAJECTORY_HEADER.len() - 2 + usize::from(columns.drag) + columns.law_outputs.len();
+        self.trajectory_width = TRAJECTORY_HEADER.len() - 2
+            + usize::from(columns.drag)
+            + if columns.control {
+                CONTROL_TRAJECTORY_COLUMNS.len()
+            } else {
+                0
+            }
+            + columns.law_outputs.len();
         if !with_trajectory {
             return;
         }
@@ -346,6 +410,24 @@ impl Record {
             if columns.drag {
                 t.push(s.drag_areas_m2.get(i).copied().unwrap_or(f64::NAN));
             }
+            if columns.control {
+                match control(i) {
+                    Some((commanded, applied)) => {
+                        t.extend(commanded.iter().chain(applied.iter()));
+                        t.push(f64::from(u8::from(commanded != applied)));
+                    }
+                    // A count is never missing: 0 where the history is unknown.
+                    None => t.extend([
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        f64::NAN,
+                        0.0,
+                    ]),
+                }
+            }
             t.extend(
                 outputs
                     .iter()
@@ -372,6 +454,7 @@ mod tests {
             law_metrics: vec!["ts_min_connectable_time_h", "ts_theta_p_min_deg"],
             law_outputs: vec!["es_mode"],
             drag: true,
+            control: true,
         };
         let metrics = columns.metrics();
         let find = |cs: &[Column], name: &str| *cs.iter().find(|c| c.name == name).unwrap();
@@ -397,6 +480,12 @@ mod tests {
         assert_eq!(find(&metrics, "ts_theta_p_min_deg").unit(), "deg");
         assert_eq!(find(&t, "drag_area_m2").unit(), "m^2");
         assert_eq!(find(&metrics, "drag_switches").kind, ColumnKind::Count);
-        assert_eq!(metrics.len(), METRICS_HEADER.len() + 2 + 1 + 2);
+        assert_eq!(find(&t, "ux_cmd_mps2").unit(), "m/s^2");
+        assert_eq!(find(&t, "uz_mps2").frame(), Some(frames::LVLH_FRAME));
+        assert_eq!(find(&t, "saturated").kind, ColumnKind::Count);
+        assert_eq!(find(&metrics, "mean_command_mps2").unit(), "m/s^2");
+        assert_eq!(find(&metrics, "saturated_fraction").unit(), "1");
+        assert_eq!(metrics.len(), METRICS_HEADER.len() + 2 + 1 + 2 + 2);
+        assert_eq!(t.len(), TRAJECTORY_HEADER.len() + 1 + 7 + 1);
     }
 }

@@ -594,6 +594,12 @@ pub struct OutputSection {
     /// after a completed run (default false; needs `trajectory = true`).
     #[serde(default)]
     pub oem: bool,
+    /// Record the control history (default false): the trajectory gains each satellite's commanded
+    /// and applied acceleration (Hill frame \[m/s^2\]) and whether the actuator limited the command,
+    /// and `metrics` the saturated fraction and the mean command norm (`docs/outputs.md`). Not written
+    /// for the kinematic model (its command is a velocity).
+    #[serde(default)]
+    pub control_history: bool,
 }
 
 fn default_true() -> bool {
@@ -609,6 +615,7 @@ impl Default for OutputSection {
             delta_v_budget_mps: None,
             allow_large: false,
             oem: false,
+            control_history: false,
         }
     }
 }

@@ -1,6 +1,8 @@
 //! What the engine hands to its outputs at every recording time: a [`Snapshot`] of the swarm, consumed by
 //! a [`Recorder`]. Recording streams: the engine never keeps the trajectory in memory.
 
+use nalgebra::Vector3;
+
 use crate::metrics::FiveElements;
 use crate::orbit::{CartesianState, RelativeStateHill};
 
@@ -39,6 +41,16 @@ pub struct Snapshot<'a> {
     pub drag_areas_m2: &'a [f64],
     /// Drag-area changes of every satellite so far, summed.
     pub drag_switches: u64,
+    /// The control history ([`crate::swarm::Simulation::set_control_history`]; both empty when it is
+    /// off): every satellite's commanded acceleration, the law's command before the actuator, Hill
+    /// frame \[m/s^2\], by id. Sampled control: the command of the last tick at or before this time,
+    /// held since (zero before the first tick); continuous control: the command evaluated at this
+    /// time's state. Zero for a removed satellite.
+    pub commanded_hill_mps2: &'a [Vector3<f64>],
+    /// The applied acceleration of the same command, after the actuator (saturation and failed axes;
+    /// process noise, a disturbance, not included), Hill frame \[m/s^2\], by id. A satellite's command
+    /// was limited by its actuator exactly where it differs from [`Self::commanded_hill_mps2`].
+    pub applied_hill_mps2: &'a [Vector3<f64>],
 }
 
 /// The continuous threat and obstacle monitors from the start of the run to a recording time.

@@ -9,6 +9,8 @@
 //! | `swarm_metrics`: five elements, minimum separation, threat and obstacle monitors over time | `metrics.csv` | `series.rs` |
 //! | `law_metrics`: every metric column of the law(s) | `metrics.csv` | `series.rs` |
 //! | `delta_v`: Δv per satellite, cumulative mean and max over time | `summary.json`, `metrics.csv` | `delta_v.rs` |
+//! | `drag` (runs with drag attitudes): phase, altitude and drag area over time | `trajectory.csv` | `drag.rs` |
+//! | `control` (runs with `[output] control_history`): applied and commanded acceleration norms of the first satellites, saturation timeline | `trajectory.csv` | `control.rs` |
 //!
 //! A campaign's figure (`satflock campaign`, [`draw_campaign`]): `outcomes`, every headline outcome
 //! against every varied parameter, from the campaign's table (`campaign.rs`).
@@ -24,6 +26,7 @@
 //! spaced by index). Each cut is said on the figure and on stderr ([`PlotReport::describe`]).
 
 mod campaign;
+mod control;
 mod delta_v;
 mod drag;
 pub mod overlay;
@@ -196,6 +199,10 @@ pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
     write_figure(&out, &delta_v::DeltaV::new(&context), &mut report)?;
     // Only for runs whose satellites have drag attitudes (not "skipped" elsewhere: it does not apply).
     if let Some(figure) = drag::Drag::new(&context) {
+        write_figure(&out, &figure, &mut report)?;
+    }
+    // Only for runs that recorded their control history (`[output] control_history`).
+    if let Some(figure) = control::Control::new(&context) {
         write_figure(&out, &figure, &mut report)?;
     }
     Ok(report)

@@ -69,8 +69,6 @@ pub(crate) trait TickEvaluation: Sync {
     fn update_context(&self, id: usize, actuator: Actuator) -> LawContext;
     /// The context of satellite `id`'s command.
     fn command_context(&self, id: usize, actuator: Actuator) -> LawContext;
-    /// The applied command of a law's command through the satellite's actuator.
-    fn applied(&self, actuator: Actuator, command: Vector3<f64>) -> Vector3<f64>;
 }
 
 /// A typed parameter set for a law, carried by a `set-law-parameters` event. The law it reaches checks
@@ -117,7 +115,7 @@ trait ErasedLaw: Send + Sync {
         &mut self,
         swarm: &SwarmView<'_>,
         tick: &dyn TickEvaluation,
-        applied_by_slot: &mut [Vector3<f64>],
+        commands_by_slot: &mut [Vector3<f64>],
     ) -> bool;
     fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
     fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool;
@@ -263,38 +261,38 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         &mut self,
         swarm: &SwarmView<'_>,
         tick: &dyn TickEvaluation,
-        applied_by_slot: &mut [Vector3<f64>],
+        commands_by_slot: &mut [Vector3<f64>],
     ) -> bool {
         let grid = swarm.grid;
         let cells = grid.cell_order();
-        if cells.len() != self.next.len() || applied_by_slot.len() != self.next.len() {
+        if cells.len() != self.next.len() || commands_by_slot.len() != self.next.len() {
             return false;
         }
         let Self { law, current, next } = self;
         let previous = &*current;
-        // `next[s]` and `applied_by_slot[s]` receive the new state and the command of the satellite in
-        // grid slot `s`.
+        // `next[s]` and `commands_by_slot[s]` receive the new state and the command (before the
+        // actuator) of the satellite in grid slot `s`.
         next.par_chunks_mut(CHUNK)
-            .zip(applied_by_slot.par_chunks_mut(CHUNK))
+            .zip(commands_by_slot.par_chunks_mut(CHUNK))
             .zip(cells.par_chunks(CHUNK))
             .enumerate()
-            .for_each(|(chunk, ((states, applied), indices))| {
+            .for_each(|(chunk, ((states, commands), indices))| {
                 // The buffer is taken out of the thread-local for the chunk, not borrowed across the
                 // law's calls: a law that runs rayon work of its own may have this thread pick up
                 // another chunk meanwhile, which then starts from an empty buffer instead of panicking.
                 let mut sensed = SENSED.take();
                 let batches = states
                     .chunks_mut(OWN_BATCH)
-                    .zip(applied.chunks_mut(OWN_BATCH))
+                    .zip(commands.chunks_mut(OWN_BATCH))
                     .zip(indices.chunks(OWN_BATCH));
-                for (batch, ((states, applied), indices)) in batches.enumerate() {
+                for (batch, ((states, commands), indices)) in batches.enumerate() {
                     let own = own_batch(tick, swarm, indices, chunk * CHUNK + batch * OWN_BATCH);
-                    for ((state, applied), (own, &index)) in
-                        states.iter_mut().zip(applied).zip(own.iter().zip(indices))
+                    for ((state, out), (own, &index)) in
+                        states.iter_mut().zip(commands).zip(own.iter().zip(indices))
                     {
                         let Some((own, actuator)) = *own else {
                             state.clone_from(&previous[index as usize]);
-                            *applied = Vector3::zeros();
+                            *out = Vector3::zeros();
                             continue;
                         };
                         swarm.satellite_with(own).collect_neighbours(&mut sensed);
@@ -306,9 +304,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                             &tick.update_context(id, actuator),
                             state,
                         );
-                        let command =
-                            law.command(&satellite, state, &tick.command_context(id, actuator));
-                        *applied = tick.applied(actuator, command);
+                        *out = law.command(&satellite, state, &tick.command_context(id, actuator));
                     }
                 }
                 SENSED.set(sensed);
@@ -551,19 +547,20 @@ impl Law {
 
     /// One tick's state update and command evaluation in one pass over the satellites in the sensing
     /// grid's cell order: each live satellite's neighbour walk is collected once and replayed to its
-    /// state update and then to its command (from the new state), so the states and the applied
-    /// commands (written by grid slot into `applied_by_slot`; zero for a removed satellite) are bitwise
-    /// those of [`Self::update_states`] followed by the command evaluation, on any thread count.
+    /// state update and then to its command (from the new state), so the states and the law's
+    /// commands (before the actuator, which the caller applies; written by grid slot into
+    /// `commands_by_slot`; zero for a removed satellite) are bitwise those of [`Self::update_states`]
+    /// followed by the command evaluation, on any thread count.
     /// Returns `false`, doing nothing, when the grid does not hold every satellite (left empty by a
     /// non-finite navigation position): the caller then runs the two passes.
     pub(crate) fn update_states_and_commands(
         &mut self,
         swarm: &SwarmView<'_>,
         tick: &dyn TickEvaluation,
-        applied_by_slot: &mut [Vector3<f64>],
+        commands_by_slot: &mut [Vector3<f64>],
     ) -> bool {
         self.0
-            .update_states_and_commands(swarm, tick, applied_by_slot)
+            .update_states_and_commands(swarm, tick, commands_by_slot)
     }
 
     pub(crate) fn command(
@@ -805,9 +802,6 @@ mod tests {
             }
             fn command_context(&self, id: usize, actuator: Actuator) -> LawContext {
                 self.update_context(id, actuator).for_command()
-            }
-            fn applied(&self, _: Actuator, command: Vector3<f64>) -> Vector3<f64> {
-                command
             }
         }
 

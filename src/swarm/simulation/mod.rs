@@ -329,6 +329,28 @@ impl Simulation {
         &self.config
     }
 
+    /// Records the control history (`[output] control_history`) or stops recording it: each
+    /// [`crate::swarm::Snapshot`] then carries every satellite's commanded and applied acceleration
+    /// ([`crate::swarm::Snapshot::commanded_hill_mps2`]). The commands before the actuator get a column
+    /// of their own (3 × 8 bytes per satellite), which exists only while this is on; off, nothing is
+    /// computed or stored. The kinematic model (whose commands are velocities) has no control
+    /// history: the call then leaves it off. Call it before the run (a column switched on later holds
+    /// zeros until the next tick).
+    pub fn set_control_history(&mut self, on: bool) {
+        let on = on && !matches!(self.config.dynamics, DynamicsModel::Kinematic);
+        let n = self.satellites.applied_hill.len();
+        self.satellites.commanded_hill = if on {
+            vec![Vector3::zeros(); n]
+        } else {
+            Vec::new()
+        };
+    }
+
+    /// Whether the control history is recorded ([`Simulation::set_control_history`]).
+    pub fn records_control_history(&self) -> bool {
+        !self.satellites.commanded_hill.is_empty()
+    }
+
     /// Whether a satellite has drag attitudes (a law may command its drag area): the drag-command
     /// buffer exists exactly then.
     pub fn has_drag_attitudes(&self) -> bool {

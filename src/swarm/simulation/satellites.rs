@@ -1,7 +1,8 @@
 //! The engine's one per-satellite table ([`Satellites`]): what changes only through events and drag
 //! commands (the [`Fleet`]: masses and physical properties, radii, actuators, drag attitudes, flags,
 //! the storage order) and what the run loop rewrites (truth relative states, applied and held commands,
-//! the drag-mode bookkeeping), every column in the engine's
+//! the commands before the actuator when the control history is recorded, the drag-mode bookkeeping),
+//! every column in the engine's
 //! storage order, permuted as a whole by the storage re-sort ([`Satellites::permute`], whose exhaustive
 //! destructuring makes a new column fail to compile until it is permuted too). Read by id through
 //! [`Fleet::order`].
@@ -109,6 +110,9 @@ pub(in crate::swarm::simulation) struct Satellites {
     /// Applied command of the tick, Hill frame (acceleration \[m/s^2\], or velocity \[m/s\]
     /// kinematic).
     pub applied_hill: Vec<Vector3<f64>>,
+    /// The law's command of the tick before the actuator, Hill frame \[m/s^2\]: recorded for the
+    /// control history only (empty otherwise, and never read by the dynamics).
+    pub commanded_hill: Vec<Vector3<f64>>,
     /// Held command in the dynamics frame (ECI or Hill), sampled mode, process noise included.
     pub held_control: Vec<Vector3<f64>>,
     /// When each satellite's drag area last changed \[s\] (−∞: never), for the minimum dwell.
@@ -128,6 +132,7 @@ impl Satellites {
             fleet: Fleet::new(satellites),
             truth: vec![RelativeStateHill::default(); n],
             applied_hill: vec![Vector3::zeros(); n],
+            commanded_hill: Vec::new(),
             held_control: vec![Vector3::zeros(); n],
             drag_changed_s: vec![f64::NEG_INFINITY; n],
             drag_switches: vec![0; n],
@@ -152,6 +157,7 @@ impl Satellites {
                 },
             truth,
             applied_hill,
+            commanded_hill,
             held_control,
             drag_changed_s,
             drag_switches,
@@ -169,6 +175,9 @@ impl Satellites {
         permute(links_up, moves, visited);
         permute(truth, moves, visited);
         permute(applied_hill, moves, visited);
+        if !commanded_hill.is_empty() {
+            permute(commanded_hill, moves, visited);
+        }
         permute(held_control, moves, visited);
         order.apply(moves, visited);
     }

@@ -296,6 +296,7 @@ impl Simulation {
                 tick,
                 &mut self.satellites.held_control,
                 &mut self.satellites.applied_hill,
+                &mut self.satellites.commanded_hill,
             );
         if stateful && !fused {
             self.law
@@ -311,6 +312,7 @@ impl Simulation {
                     tick,
                     &mut self.satellites.held_control,
                     &mut self.satellites.applied_hill,
+                    &mut self.satellites.commanded_hill,
                 );
             }
             let frame = self

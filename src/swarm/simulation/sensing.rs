@@ -398,8 +398,10 @@ impl<'a> Plant<'a> {
     /// cache (in a storage order far from the cell order, every neighbour query of a large swarm misses). Each command is computed on
     /// its own from the same inputs, so `applied_hill` holds exactly the bits of [`Self::commands`],
     /// whatever the thread count. `scratch` (same length as `applied_hill`) is overwritten: it receives
-    /// the commands in cell order before they are gathered by storage index. Falls back to storage order when the
-    /// grid is empty (a non-finite navigation position).
+    /// the law's commands in cell order before they are gathered by storage index through the
+    /// actuators. `commanded_hill` is empty, or (control history) receives the law's commands before
+    /// the actuator by storage index. Falls back to storage order when the grid is empty (a non-finite
+    /// navigation position).
     pub fn commands_in_cell_order(
         &self,
         law: &Law,
@@ -407,11 +409,16 @@ impl<'a> Plant<'a> {
         tick: u64,
         scratch: &mut [Vector3<f64>],
         applied_hill: &mut [Vector3<f64>],
+        commanded_hill: &mut [Vector3<f64>],
     ) {
         let grid = view.grid;
         let order = grid.cell_order();
         if order.len() != applied_hill.len() || scratch.len() != applied_hill.len() {
-            self.commands(law, view, tick, applied_hill);
+            if commanded_hill.is_empty() {
+                self.commands(law, view, tick, applied_hill);
+            } else {
+                self.commands_with_history(law, view, tick, commanded_hill, applied_hill);
+            }
             return;
         }
         // Each batch first copies out its satellites' own data (loads by storage index, scattered in memory on a
@@ -435,19 +442,20 @@ impl<'a> Plant<'a> {
                     let own = own_batch(&evaluation, view, indices, first_slot);
                     for (out, own) in outs.iter_mut().zip(own) {
                         *out = own.map_or_else(Vector3::zeros, |(own, actuator)| {
-                            self.applied(law, &view.satellite_with(own), actuator, tick)
+                            self.commanded(law, &view.satellite_with(own), actuator, tick)
                         });
                     }
                 }
             });
-        Self::gather_by_index(view, scratch, applied_hill);
+        self.actuate_by_index(view, scratch, applied_hill, commanded_hill);
     }
 
     /// The state update of a stateful law and the commands of one tick in one pass
     /// ([`Law::update_states_and_commands`]): the states and the applied commands are bitwise those of
     /// [`Law::update_states`] followed by [`Self::commands_in_cell_order`]. `scratch` (same length as
-    /// `applied_hill`) is overwritten. Returns `false`, doing nothing, when the grid does not hold every
-    /// satellite (a non-finite navigation position): the caller then runs the two passes.
+    /// `applied_hill`) is overwritten; `commanded_hill` as in [`Self::commands_in_cell_order`].
+    /// Returns `false`, doing nothing, when the grid does not hold every satellite (a non-finite
+    /// navigation position): the caller then runs the two passes.
     pub fn states_and_commands_in_cell_order(
         &self,
         law: &mut Law,
@@ -455,6 +463,7 @@ impl<'a> Plant<'a> {
         tick: u64,
         scratch: &mut [Vector3<f64>],
         applied_hill: &mut [Vector3<f64>],
+        commanded_hill: &mut [Vector3<f64>],
     ) -> bool {
         let evaluation = PlantTick {
             plant: self,
@@ -466,22 +475,69 @@ impl<'a> Plant<'a> {
         {
             return false;
         }
-        Self::gather_by_index(view, scratch, applied_hill);
+        self.actuate_by_index(view, scratch, applied_hill, commanded_hill);
         true
     }
 
-    /// Writes into `by_index[i]` the value in `by_slot` of the grid slot of the satellite at storage
-    /// index `i`.
-    fn gather_by_index(
+    /// Writes into `applied_hill[i]` the law's command in `commands_by_slot` of the grid slot of the
+    /// satellite at storage index `i` through its actuator ([`Self::through_actuator`]), and into
+    /// `commanded_hill[i]` the command itself unless `commanded_hill` is empty (no control history).
+    fn actuate_by_index(
+        &self,
         view: &SwarmView<'_>,
-        by_slot: &[Vector3<f64>],
-        by_index: &mut [Vector3<f64>],
+        commands_by_slot: &[Vector3<f64>],
+        applied_hill: &mut [Vector3<f64>],
+        commanded_hill: &mut [Vector3<f64>],
     ) {
-        by_index
+        let actuators = &self.fleet.actuators;
+        if commanded_hill.is_empty() {
+            applied_hill
+                .par_iter_mut()
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, applied)| {
+                    let command = commands_by_slot[view.grid.slot(i)];
+                    *applied = self.through_actuator(actuators[i], command);
+                });
+        } else {
+            applied_hill
+                .par_iter_mut()
+                .zip(commanded_hill.par_iter_mut())
+                .with_min_len(CHUNK)
+                .enumerate()
+                .for_each(|(i, (applied, commanded))| {
+                    *commanded = commands_by_slot[view.grid.slot(i)];
+                    *applied = self.through_actuator(actuators[i], *commanded);
+                });
+        }
+    }
+
+    /// [`Self::commands`] that also writes the law's commands before the actuator into
+    /// `commanded_hill` (by storage index; zero for a removed satellite): the control history's plain
+    /// path, for continuous control (evaluated at a recording time) and a swarm whose grid could not
+    /// be built.
+    pub fn commands_with_history(
+        &self,
+        law: &Law,
+        view: &SwarmView<'_>,
+        tick: u64,
+        commanded_hill: &mut [Vector3<f64>],
+        applied_hill: &mut [Vector3<f64>],
+    ) {
+        applied_hill
             .par_iter_mut()
+            .zip(commanded_hill.par_iter_mut())
             .with_min_len(CHUNK)
             .enumerate()
-            .for_each(|(i, value)| *value = by_slot[view.grid.slot(i)]);
+            .for_each(|(i, (applied, commanded))| {
+                let actuator = self.fleet.actuators[i];
+                *commanded = if self.fleet.active[i] {
+                    self.commanded(law, &view.satellite_at(i), actuator, tick)
+                } else {
+                    Vector3::zeros()
+                };
+                *applied = self.through_actuator(actuator, *commanded);
+            });
     }
 
     /// The applied command of the satellite at storage index `index` (zero for a removed satellite).
@@ -506,6 +562,18 @@ impl<'a> Plant<'a> {
         actuator: Actuator,
         tick: u64,
     ) -> Vector3<f64> {
+        self.through_actuator(actuator, self.commanded(law, satellite, actuator, tick))
+    }
+
+    /// The law's command of the live satellite `satellite` with actuator `actuator` (in its context),
+    /// before the actuator.
+    fn commanded(
+        &self,
+        law: &Law,
+        satellite: &SatelliteView<'_>,
+        actuator: Actuator,
+        tick: u64,
+    ) -> Vector3<f64> {
         let context = self.context_with(
             satellite.id(),
             actuator,
@@ -513,7 +581,7 @@ impl<'a> Plant<'a> {
             tick,
             true,
         );
-        self.through_actuator(actuator, law.command(satellite, &context))
+        law.command(satellite, &context)
     }
 
     /// The applied command of a law's command `command`: through the actuator `actuator`, or the
@@ -558,10 +626,6 @@ impl TickEvaluation for PlantTick<'_> {
     fn command_context(&self, id: usize, actuator: Actuator) -> LawContext {
         self.plant
             .context_with(id, actuator, self.time_s, self.tick, true)
-    }
-
-    fn applied(&self, actuator: Actuator, command: Vector3<f64>) -> Vector3<f64> {
-        self.plant.through_actuator(actuator, command)
     }
 }
 
@@ -655,7 +719,14 @@ mod tests {
                         plant.context(i, time_s, tick, false)
                     });
                 let mut scratch = vec![Vector3::zeros(); n];
-                plant.commands_in_cell_order(&sim.law, &view, tick, &mut scratch, &mut expected);
+                plant.commands_in_cell_order(
+                    &sim.law,
+                    &view,
+                    tick,
+                    &mut scratch,
+                    &mut expected,
+                    &mut [],
+                );
             }
             moved |= expected.iter().any(|u| u.norm() > 0.0);
             for (threads, sim) in [1, 3].into_iter().zip(&mut fused) {
@@ -684,6 +755,7 @@ mod tests {
                         tick,
                         &mut scratch,
                         &mut applied,
+                        &mut [],
                     )
                 });
                 assert!(ran);
@@ -786,7 +858,14 @@ mod tests {
                     .unwrap();
                 let (mut scratch, mut ordered) = (vec![Vector3::zeros(); n], vec![Vector3::zeros(); n]);
                 pool.install(|| {
-                    plant.commands_in_cell_order(&sim.law, &view, 5, &mut scratch, &mut ordered)
+                    plant.commands_in_cell_order(
+                        &sim.law,
+                        &view,
+                        5,
+                        &mut scratch,
+                        &mut ordered,
+                        &mut [],
+                    )
                 });
                 for (a, b) in plain.iter().zip(&ordered) {
                     for k in 0..3 {

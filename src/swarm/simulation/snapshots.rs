@@ -1,13 +1,16 @@
 //! What a recorder receives at every recording time: the truth states (Hill and ECI), delta-v ledgers,
-//! the five elements, separation and collisions, the law's metrics and per-satellite outputs, and the
-//! threat and obstacle monitors so far.
+//! the five elements, separation and collisions, the law's metrics and per-satellite outputs, the
+//! threat and obstacle monitors so far, and the control history when it is recorded.
+
+use nalgebra::Vector3;
 
 use crate::metrics::five_elements;
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::swarm::recorder::{EnvironmentSnapshot, Recorder, Snapshot};
 use crate::swarm::simulation::monitors::live_separation;
+use crate::swarm::simulation::scheduler::noise_if_any;
 use crate::swarm::simulation::sensing::{FleetById, Plant};
-use crate::swarm::simulation::{SimError, Simulation, SimulationConfig};
+use crate::swarm::simulation::{Integration, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of, SwarmState};
 use crate::swarm::storage_order::StorageOrder;
 
@@ -124,6 +127,7 @@ impl Simulation {
         };
         let drag_areas_m2 = self.drag_areas_m2().unwrap_or_default();
         let drag_switches = self.satellites.drag_switches.iter().sum();
+        let (commanded_hill, applied_hill) = self.control_history();
         let snapshot = Snapshot {
             time_s: self.clock.time_s,
             relative_states: &relative_states,
@@ -141,8 +145,47 @@ impl Simulation {
             environment,
             drag_areas_m2: &drag_areas_m2,
             drag_switches,
+            commanded_hill_mps2: &commanded_hill,
+            applied_hill_mps2: &applied_hill,
         };
         recorder.record(&snapshot)?;
         Ok(())
+    }
+
+    /// The control history now, by id: every satellite's commanded and applied acceleration, Hill
+    /// frame \[m/s^2\] (both empty when it is not recorded). Sampled control holds the tick's
+    /// commands; continuous control evaluates the law at the current state (the navigation noise and
+    /// random stream of the last integration step, as its right-hand side would at this instant),
+    /// which reads the law and changes nothing of the run.
+    fn control_history(&mut self) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+        if !self.records_control_history() {
+            return (Vec::new(), Vec::new());
+        }
+        if matches!(self.integration, Integration::Coupled { .. }) {
+            let plant = Plant::new(
+                &self.config,
+                &self.satellites.fleet,
+                &self.timeline.threat_warnings,
+                self.reference_model,
+            );
+            let view = plant.view(
+                self.clock.time_s,
+                &self.satellites.truth,
+                noise_if_any(&self.config, &self.noise.navigation),
+                &mut self.sensed,
+            );
+            plant.commands_with_history(
+                &self.law,
+                &view,
+                self.clock.tick.saturating_sub(1),
+                &mut self.satellites.commanded_hill,
+                &mut self.satellites.applied_hill,
+            );
+        }
+        let order = &self.satellites.fleet.order;
+        (
+            order.by_id(&self.satellites.commanded_hill),
+            order.by_id(&self.satellites.applied_hill),
+        )
     }
 }
