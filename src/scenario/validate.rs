@@ -801,7 +801,7 @@ pub fn merge_law_parameters(
     for (key, value) in update {
         table.insert(key.clone(), value.clone());
     }
-    LawConfig::deserialize(table).map_err(|e| e.to_string())
+    <LawConfig as Deserialize>::deserialize(table).map_err(|e| e.to_string())
 }
 
 /// The threats of the scenario.
