@@ -73,11 +73,15 @@ pub struct LawRegistry {
     laws: Vec<Arc<Entry>>,
 }
 
+/// Deserialises a parameter table (without `name`) into a law's typed parameters.
+type ParameterParser =
+    Box<dyn Fn(&toml::Table) -> Result<Arc<dyn ParsedLaw>, toml::de::Error> + Send + Sync>;
+
 /// A registered law: its name and how to read its parameter table.
 struct Entry {
     name: &'static str,
     /// Deserialises the parameter table (without `name`) into the law's typed parameters.
-    parse: Box<dyn Fn(&toml::Table) -> Result<Arc<dyn ParsedLaw>, toml::de::Error> + Send + Sync>,
+    parse: ParameterParser,
 }
 
 /// A registered law's typed parameters, with its builder.
