@@ -16,6 +16,7 @@ from ._native import (
     propagate,
 )
 from ._campaign import campaign
+from ._compare import compare
 from ._run import RunResult, Simulation, Trajectory, run
 
 __all__ = [
@@ -31,6 +32,7 @@ __all__ = [
     "budget",
     "campaign",
     "characterize",
+    "compare",
     "propagate",
     "run",
 ]

@@ -13,7 +13,7 @@ Arrays returned by satflock are float64 unless stated otherwise.
 
 import os
 import pathlib
-from typing import Any, Callable, Literal, Mapping, Optional, Protocol, Union, final
+from typing import Any, Callable, Iterable, Literal, Mapping, Optional, Protocol, Sequence, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -34,6 +34,7 @@ __all__ = [
     "budget",
     "campaign",
     "characterize",
+    "compare",
     "propagate",
     "run",
 ]
@@ -112,6 +113,10 @@ class Scenario:
     @property
     def source(self) -> str:
         """Where the scenario came from: a path, `builtin:NAME`, `<toml>` or `<dict>`."""
+    def with_controller(self, spec: str) -> "Scenario":
+        """This scenario (the case) steered by a controller file or `builtin:NAME`, as `satflock run CASE
+        --law SPEC` takes it: the controller's law and law events replace the case's; validated
+        (`ScenarioError` names both files)."""
     def copy(self) -> "Scenario":
         """An independent copy."""
     def __copy__(self) -> "Scenario": ...
@@ -456,6 +461,28 @@ def budget(
 
 # ------------------------------------------------------------------------------------------- campaigns
 
+def compare(
+    case: Union[Scenario, str, os.PathLike[str]],
+    laws: Sequence[Any],
+    seeds: Iterable[int] = (1,),
+    threads: Optional[int] = None,
+) -> pyarrow.Table:
+    """Runs every law on one case for every seed, as `satflock compare` does, and returns the table of
+    runs (compare.parquet's columns), one row per (law, seed).
+
+    Args:
+        case: a `Scenario`, a built-in name or a TOML file's path.
+        laws: controller files or `"builtin:NAME"` strings, and guidance laws written in Python (objects
+            with `command(ctx)`; each run gets its own `copy.deepcopy`), in any mix; each row's `law` is the file name without extension, the
+            built-in's name, or the Python law's `name` (else its class name); labels must differ.
+        seeds: scenario seeds (ints >= 0), each run with every law.
+        threads: rayon threads per run; None: one per core. Results do not depend on it.
+
+    Returns:
+        Text columns `law`, `controller`, `law_name`, `status`, `error`; `seed` (uint64); then every scalar
+        outcome of the runs' summary.json by dotted name (float64, null where a run lacks it).
+    """
+
 def campaign(
     spec: Union[str, os.PathLike[str], Mapping[str, Any]],
     backend: Literal["local", "ray"] = "local",
@@ -465,6 +492,7 @@ def campaign(
     keep_runs: bool = False,
     cpus_per_run: int = 1,
     progress: bool = True,
+    law: Any = None,
 ) -> pyarrow.Table:
     """Runs a campaign, as `satflock campaign` does (the file format: docs/campaigns.md).
 
@@ -480,6 +508,10 @@ def campaign(
         keep_runs: keep each run's full outputs under `out`.
         cpus_per_run: CPUs each Ray task requests, and the threads it runs on.
         progress: a bool: show a progress line on stderr, only when stderr is a terminal.
+        law: a guidance law written in Python run in place of the scenario's: an object with
+            `command(ctx)` (local backend; a `copy.deepcopy` per run, one run at a time), or a
+            `"module:name"` string naming a class or zero-argument factory (either backend; each Ray
+            task imports the module). None: the scenario's law.
 
     Returns:
         The campaign table (`campaign.parquet`): one row per run, in run order, the same for both backends.

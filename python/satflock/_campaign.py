@@ -7,7 +7,9 @@ what ``satflock campaign`` runs) and write the same ``manifest.jsonl``, ``campai
 
 from __future__ import annotations
 
+import copy
 import functools
+import importlib
 import os
 import shutil
 import sys
@@ -110,6 +112,7 @@ def campaign(
     keep_runs: bool = False,
     cpus_per_run: int = 1,
     progress: bool = True,
+    law: Any = None,
 ):
     """Runs a campaign (docs/campaigns.md) and returns its table: ``campaign.parquet`` as a
     ``pyarrow.Table``, one row per finished run in run order.
@@ -142,6 +145,13 @@ def campaign(
             depend on its thread count.
         progress: a bool: a progress line on stderr (runs done, not completed, in progress), rewritten
             in place, only when stderr is a terminal.
+        law: a guidance law written in Python, run in place of the scenario's law in every run (as
+            ``satflock.run(law=...)`` takes it): an object with ``command(ctx)`` (local backend; each
+            run gets its own ``copy.deepcopy``), or a ``"module:name"`` string naming a class or a
+            zero-argument factory that makes one (either backend; on Ray each task imports the module,
+            so it must be importable on every node, e.g. installed or on ``PYTHONPATH``). The runs of
+            a Python law hold the GIL while it computes: locally they run one at a time (``jobs`` must
+            be None or 1). None: the scenario's law.
 
     Returns a ``pyarrow.Table`` (see docs/campaigns.md, ``campaign.parquet``): ``status``, ``error``,
     ``seed`` (text), ``run``, ``point``, ``parameter.KEY`` for each varied key, then every scalar
@@ -178,6 +188,7 @@ def campaign(
         )
     if resume and out is None:
         raise ValueError("resume=True needs out: the folder of the campaign to continue")
+    fresh_law, law_path = _law_argument(law, backend, jobs)
     pq = _pyarrow_parquet()
     plan = _plan(spec)
     if backend == "ray":
@@ -187,11 +198,13 @@ def campaign(
     bar = _Progress(progress and sys.stderr is not None and sys.stderr.isatty(), plan.run_count)
     try:
         try:
-            if backend == "local":
+            if backend == "local" and fresh_law is None:
                 dropped = plan.run_local(folder, jobs, resume, keep_runs, bar.event)
+            elif backend == "local":
+                dropped = _run_local_with_law(plan, folder, resume, keep_runs, fresh_law, bar)
             else:
                 dropped = _run_on_ray(ray, plan, folder, temporary is not None, jobs, resume,
-                                      keep_runs, cpus_per_run, bar)
+                                      keep_runs, cpus_per_run, bar, law_path)
         finally:
             bar.close()
         for line in dropped:
@@ -214,16 +227,81 @@ def _plan_in_worker(text: str, file: str, base_dir: str) -> "_native.CampaignPla
     return _native.CampaignPlan.from_toml(text, file, base_dir)
 
 
-def _run_task(spec, index: int, out: Optional[str], keep_runs: bool, threads: int) -> str:
-    """One run in a Ray task: the library's run function; its record as JSON text."""
+def _law_from_path(path: str) -> Any:
+    """A fresh law from ``"module:name"``: the module imported, ``name`` called (a class or a
+    zero-argument factory)."""
+    module, sep, name = path.partition(":")
+    if not sep or not module or not name:
+        raise ValueError(f"law = {path!r} (allowed: 'module:name', e.g. 'my_laws:PDHold')")
+    try:
+        factory = getattr(importlib.import_module(module), name)
+    except (ImportError, AttributeError) as e:
+        raise ValueError(f"law = {path!r}: {e} (the module must be importable here)") from e
+    law = factory()
+    if not callable(getattr(law, "command", None)):
+        raise TypeError(f"law = {path!r} made a {type(law).__name__} without a command(ctx) method")
+    return law
+
+
+def _law_argument(law: Any, backend: str, jobs: Optional[int]):
+    """(a maker of a fresh law per run, or None; the module path for Ray tasks, or None), checked
+    before anything runs."""
+    if law is None:
+        return None, None
+    if backend == "local" and jobs not in (None, 1):
+        raise ValueError(
+            f"jobs = {jobs} with a Python law (allowed: None or 1: a law written in Python holds the "
+            "GIL, so its runs go one at a time)"
+        )
+    if isinstance(law, str):
+        _law_from_path(law)  # imported and made once here: a bad path fails before anything runs
+        return (lambda: _law_from_path(law)), law
+    if backend == "ray":
+        raise ValueError(
+            f"law = {law!r} with backend='ray' (allowed: a 'module:name' string that each Ray task "
+            "imports; an object cannot be sent to the tasks)"
+        )
+    if not callable(getattr(law, "command", None)):
+        raise TypeError(
+            f"law = {law!r} is a {type(law).__name__} without a command(ctx) method (allowed: a "
+            "guidance law object, a 'module:name' string, or None)"
+        )
+    return (lambda: copy.deepcopy(law)), None
+
+
+def _run_local_with_law(plan, folder, resume, keep_runs, fresh_law, bar):
+    """The runs left in ``folder``, one at a time in this process, each with a fresh Python law; the
+    manifest, table and summary written by the same Rust code as the other backends. Returns the
+    manifest lines ``resume`` dropped."""
+    output = plan.prepare(folder, resume)
+    to_run = list(output.to_run)
+    bar.event("planned", len(to_run), str(output.already_complete))
+    try:
+        for index in to_run:
+            bar.event("started", index, None)
+            status = output.append(plan.run_one(index, folder, keep_runs, 1, fresh_law()))
+            bar.event("finished", index, status)
+    except BaseException:
+        output.finish()
+        raise
+    output.finish()
+    return list(output.dropped)
+
+
+def _run_task(
+    spec, index: int, out: Optional[str], keep_runs: bool, threads: int, law_path: Optional[str] = None
+) -> str:
+    """One run in a Ray task: the library's run function (with the law ``law_path`` names, imported
+    in this worker, if any); its record as JSON text."""
     plan = _plan_in_worker(*spec)
+    law = _law_from_path(law_path) if law_path is not None else None
     if out is None:
         with tempfile.TemporaryDirectory(prefix="satflock-run-") as private:
-            return plan.run_one(index, private, keep_runs, threads)
-    return plan.run_one(index, out, keep_runs, threads)
+            return plan.run_one(index, private, keep_runs, threads, law)
+    return plan.run_one(index, out, keep_runs, threads, law)
 
 
-def _run_on_ray(ray, plan, folder, private_runs, jobs, resume, keep_runs, cpus_per_run, bar):
+def _run_on_ray(ray, plan, folder, private_runs, jobs, resume, keep_runs, cpus_per_run, bar, law_path):
     """Runs the runs left in ``folder`` as Ray tasks; the driver appends each record to the
     manifest as it arrives and writes the table and summary at the end (also when stopped).
     Returns the manifest lines ``resume`` dropped."""
@@ -244,7 +322,7 @@ def _run_on_ray(ray, plan, folder, private_runs, jobs, resume, keep_runs, cpus_p
                 index = next(queue, None)
                 if index is None:
                     break
-                ref = task.remote(spec, index, runs_out, keep_runs, cpus_per_run)
+                ref = task.remote(spec, index, runs_out, keep_runs, cpus_per_run, law_path)
                 pending[ref] = index
                 bar.event("started", index, None)
             if not pending:

@@ -24,6 +24,7 @@ use satflock::campaign::{
 use crate::convert::dict_to_table;
 use crate::detached::run_detached;
 use crate::errors::CampaignError;
+use crate::law::{prepared_with, take_raised, PythonLawObject};
 
 /// A campaign error as `satflock.CampaignError` (with the attributes `file` and `key`: the campaign
 /// key at fault, dotted, or None), or `OSError` for an output that cannot be written.
@@ -217,8 +218,9 @@ impl CampaignPlan {
     /// threads, and returns its record (`manifest.jsonl`'s line) as JSON text. A run that fails or is
     /// refused is recorded so, not raised. `keep_runs`: keep its full outputs (also when the campaign
     /// says so). The GIL is released; Ctrl-C stops the run (recorded as interrupted) and raises
-    /// `KeyboardInterrupt`.
-    #[pyo3(signature = (index, out, keep_runs = false, threads = 1))]
+    /// `KeyboardInterrupt`. `law`: a guidance law written in Python, run in place of the scenario's
+    /// (as `satflock.run(law=...)`; one at a time under the GIL).
+    #[pyo3(signature = (index, out, keep_runs = false, threads = 1, law = None))]
     fn run_one(
         &self,
         py: Python<'_>,
@@ -226,6 +228,7 @@ impl CampaignPlan {
         out: PathBuf,
         keep_runs: bool,
         threads: usize,
+        law: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<String> {
         let count = self.campaign.run_count();
         if index >= count {
@@ -237,9 +240,23 @@ impl CampaignPlan {
         let spec = self.campaign.run(index);
         let keep = keep_runs || self.campaign.keep_runs;
         let cancel = Arc::new(AtomicBool::new(false));
+        let law = law.map(PythonLawObject::new).transpose()?;
+        let raised = law.as_ref().map(PythonLawObject::raised);
         let record = run_detached(py, Some(threads), &cancel, || {
-            runner::execute(&self.campaign, &spec, &out, keep, Some(cancel.clone()))
+            runner::execute_with(
+                &self.campaign,
+                &spec,
+                &out,
+                keep,
+                Some(cancel.clone()),
+                |scenario| prepared_with(scenario, law),
+            )
         })?;
+        // A Python law that raised an exception failed its run (its row says so) and the campaign
+        // goes on; a KeyboardInterrupt or SystemExit it raised is raised here, and stops it.
+        if let Some(e) = raised.as_ref().and_then(take_raised) {
+            return Err(e);
+        }
         serde_json::to_string(&record).map_err(|e| PyRuntimeError::new_err(e.to_string()))
     }
 

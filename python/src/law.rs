@@ -381,12 +381,20 @@ impl GuidanceLaw for PythonLaw {
 /// Validates the scenario and, with a Python law, puts it in place of the scenario's law (sampled
 /// control only: a continuous-mode scenario is refused with `ScenarioError` on the key `control`).
 pub fn prepare(scenario: &Scenario, law: Option<PythonLawObject>) -> PyResult<Prepared> {
-    let mut prepared = scenario.prepare().map_err(|e| scenario_error(&e))?;
+    prepared_with(scenario, law).map_err(|e| scenario_error(&e))
+}
+
+/// [`prepare`] with the library's error (for the campaign runner, which records it in the run's row).
+pub fn prepared_with(
+    scenario: &Scenario,
+    law: Option<PythonLawObject>,
+) -> Result<Prepared, ScenarioError> {
+    let mut prepared = scenario.prepare()?;
     let Some(law) = law else {
         return Ok(prepared);
     };
     let ControlTiming::Sampled { period_s } = prepared.config.control else {
-        return Err(scenario_error(&ScenarioError::Invalid {
+        return Err(ScenarioError::Invalid {
             file: scenario.sources(),
             key: "control".into(),
             message: format!(
@@ -394,7 +402,7 @@ pub fn prepare(scenario: &Scenario, law: Option<PythonLawObject>) -> PyResult<Pr
                  control tick (allowed with law=: mode = \"sampled\" with a period_s)",
                 law.name
             ),
-        }));
+        });
     };
     let source = format!("python:{}", law.name);
     let law = Law::new(PythonLaw {
@@ -403,8 +411,6 @@ pub fn prepare(scenario: &Scenario, law: Option<PythonLawObject>) -> PyResult<Pr
         tick: 0,
         commands: Vec::new(),
     });
-    prepared
-        .replace_law(scenario, law, &source)
-        .map_err(|e| scenario_error(&e))?;
+    prepared.replace_law(scenario, law, &source)?;
     Ok(prepared)
 }

@@ -121,3 +121,13 @@ pub fn run<'py>(
     result.set_item("trajectory", trajectory)?;
     Ok(result)
 }
+
+/// Every scalar outcome of a run's `summary.json` text, by dotted name (sorted by name), as
+/// `satflock compare` and campaigns tabulate them (`satflock::output::scalar_outcomes`; the
+/// machine-dependent keys such as `timing` and `threads` left out).
+#[pyfunction]
+pub fn scalar_outcomes(summary_json: &str) -> PyResult<Vec<(String, f64)>> {
+    let summary: serde_json::Value = serde_json::from_str(summary_json)
+        .map_err(|e| PyValueError::new_err(format!("summary.json is not JSON: {e}")))?;
+    Ok(satflock::output::scalar_outcomes(&summary))
+}

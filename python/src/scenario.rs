@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use satflock::campaign::overrides::{self, KeyPath, Segment};
-use satflock::scenario::{builtin, Scenario, ScenarioError};
+use satflock::scenario::{builtin, Controller, Scenario, ScenarioError};
 
 use crate::convert::{dict_to_table, py_to_toml, table_to_py, toml_to_py};
 use crate::errors::scenario_error;
@@ -230,6 +230,30 @@ impl PyScenario {
     #[getter]
     fn source(&self) -> &str {
         &self.source
+    }
+
+    /// This scenario (the case) steered by a controller: `spec` is a controller file (a law, its law
+    /// events and optionally its control timing) or `builtin:NAME` (the controller of that built-in),
+    /// as `satflock run CASE --law SPEC` takes it: the controller's law and law events replace the
+    /// case's, the case's other events are kept. Validated; raises `ScenarioError` naming both files.
+    fn with_controller(&self, spec: &str) -> PyResult<Self> {
+        let controller = Controller::load(spec).map_err(|e| scenario_error(&e))?;
+        let steered = self
+            .scenario()
+            .map_err(|e| scenario_error(&e))?
+            .with_controller(&controller);
+        steered.prepare().map_err(|e| scenario_error(&e))?;
+        let table = toml::Table::try_from(&steered.file).map_err(|e| {
+            scenario_error(&ScenarioError::Parse {
+                file: self.source.clone(),
+                message: e.to_string(),
+            })
+        })?;
+        Ok(Self {
+            table,
+            source: self.source.clone(),
+            base_dir: self.base_dir.clone(),
+        })
     }
 
     /// An independent copy.

@@ -37,7 +37,8 @@ use super::file::{Campaign, RunSpec};
 use super::manifest::{self, Header, RunRecord, Status};
 use super::{overrides, pool, summary, table, CampaignError};
 use crate::output::outcomes::{scalar_outcomes, RunTable};
-use crate::run::{run_scenario_with, RunError, RunOptions};
+use crate::run::{run_prepared, RunError, RunOptions};
+use crate::scenario::{Prepared as PreparedScenario, Scenario, ScenarioError};
 use crate::swarm::SimError;
 
 /// Folder of the runs' directories.
@@ -492,15 +493,32 @@ pub fn execute(
     keep_runs: bool,
     cancel: Option<Arc<AtomicBool>>,
 ) -> RunRecord {
+    execute_with(campaign, spec, out, keep_runs, cancel, Scenario::prepare)
+}
+
+/// [`execute`] with the run's scenario prepared by `prepare`: [`Scenario::prepare`], or a caller's
+/// law put in the scenario's place with [`crate::scenario::Prepared::replace_law`] (the Python
+/// package's laws written in Python). A preparation that fails refuses the run.
+pub fn execute_with(
+    campaign: &Campaign,
+    spec: &RunSpec,
+    out: &Path,
+    keep_runs: bool,
+    cancel: Option<Arc<AtomicBool>>,
+    prepare: impl FnOnce(&Scenario) -> Result<PreparedScenario, ScenarioError>,
+) -> RunRecord {
     let dir = run_dir(out, spec.index);
-    let (status, error) = match campaign.scenario(spec) {
+    let prepared = campaign
+        .scenario(spec)
+        .and_then(|scenario| prepare(&scenario).map(|prepared| (scenario, prepared)));
+    let (status, error) = match prepared {
         Err(e) => (Status::Refused, Some(e.to_string())),
-        Ok(scenario) => {
+        Ok((scenario, prepared)) => {
             let options = RunOptions {
                 cancel,
                 format: None,
             };
-            match run_scenario_with(&scenario, &dir, &options, &mut |_| {}) {
+            match run_prepared(&scenario, prepared, &dir, &options, &mut |_| {}) {
                 Ok(_) => (Status::Completed, None),
                 Err(RunError::Scenario(e)) => (Status::Refused, Some(e.to_string())),
                 Err(RunError::Simulation(e @ SimError::Interrupted { .. })) => {
