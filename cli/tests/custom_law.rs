@@ -149,6 +149,52 @@ fn compare_runs_the_registered_law_against_a_built_in_and_shows_its_headlines() 
 }
 
 /// The message of a comparison refused before any run (exit 2 from the command line).
+/// `campaign` runs a scenario that names the registered law over seeds and a varied parameter of the
+/// law: every run completes, and the table has the law's own results and the varied values.
+#[test]
+fn campaign_runs_the_registered_law_over_seeds_and_its_parameters() {
+    let dir = setup("campaign");
+    let scenario = CASE.replace(
+        "[law]\nname = \"hold\"\nstiffness_per_s2 = 1e-4\ndamping_per_s = 2e-2\n",
+        "[law]\nname = \"centring\"\nstiffness_per_s2 = 1e-4\ndamping_per_s = 2e-2\ndither_m = 0.0\n",
+    );
+    assert_ne!(scenario, CASE);
+    std::fs::write(dir.join("case.toml"), scenario).unwrap();
+    std::fs::write(
+        dir.join("campaign.toml"),
+        "scenario = \"case.toml\"\nseeds = [1, 2]\noutcomes = [\"law.centroid_offset_m\"]\n\
+         [vary]\n\"law.damping_per_s\" = [0.01, 0.02]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let code = satflock_cli::main_with_args(
+        registry_with_centring(),
+        [
+            "satflock".to_string(),
+            "campaign".into(),
+            arg(&dir.join("campaign.toml")),
+            "--quiet".into(),
+            "--fail-on-run-failure".into(),
+            "--out".into(),
+            arg(&out),
+        ],
+    );
+    assert_eq!(code, ExitCode::SUCCESS);
+    let table = satflock::output::RunTable::read_parquet(&out.join("campaign.parquet")).unwrap();
+    assert_eq!(table.rows(), 4);
+    assert_eq!(
+        table.text("status").unwrap(),
+        ["completed", "completed", "completed", "completed"]
+    );
+    let offsets = table.numbers("law.centroid_offset_m").unwrap();
+    assert!(
+        offsets.iter().all(|v| v.is_finite() && *v >= 0.0),
+        "{offsets:?}"
+    );
+    let dampings = table.numbers("parameter.law.damping_per_s").unwrap();
+    assert_eq!(dampings, [0.01, 0.01, 0.02, 0.02]);
+}
+
 fn refused(dir: &Path, controller: &str) -> String {
     install();
     let file = dir.join("bad.toml");
