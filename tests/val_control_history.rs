@@ -16,7 +16,11 @@ use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
 use satflock::output::OutputFormat;
 use satflock::run::{run_scenario_with, RunOptions};
-use satflock::scenario::{builtin, Scenario};
+use satflock::scenario::Scenario;
+
+#[path = "common/builtin.rs"]
+mod builtin_variant;
+use builtin_variant::builtin_with;
 
 /// The trajectory columns before the control history existed (a `hold` run: no drag attitudes, no law
 /// outputs).
@@ -57,20 +61,6 @@ fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("satflock-control-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
-}
-
-/// A built-in scenario with text replacements (each must apply).
-fn builtin_with(name: &str, replacements: &[(&str, &str)]) -> Scenario {
-    let b = builtin::BUILTINS
-        .iter()
-        .find(|b| b.name == name)
-        .expect("a built-in scenario");
-    let mut text = b.toml.to_string();
-    for (from, to) in replacements {
-        assert!(text.contains(from), "{name}: `{from}` not found");
-        text = text.replace(from, to);
-    }
-    Scenario::from_toml(&text, name, Path::new(".")).expect("a valid scenario")
 }
 
 /// `hold` shortened to 1100 s, recorded every control tick, the thruster failure moved to 1050 s;

@@ -14,11 +14,14 @@
 //! over 20 seeds of release dispersion and navigation noise).
 
 use std::f64::consts::PI;
-use std::path::Path;
 
 use satflock::run::build_simulation;
 use satflock::scenario::Scenario;
 use satflock::swarm::{NullRecorder, Simulation};
+
+#[path = "common/builtin.rs"]
+mod builtin_variant;
+use builtin_variant::builtin_with;
 
 /// The built-in `name`, ready to run.
 fn simulation(name: &str) -> Simulation {
@@ -87,21 +90,20 @@ fn val_flock_phases_by_drag_alone_and_deterministically() {
 /// centroid, so the same first-principles estimate (173 days) applies.
 #[test]
 fn val_flock_phases_about_the_reference_orbit_without_sensing() {
-    let text = satflock::scenario::builtin::find("dd-flock-phasing")
-        .unwrap()
-        .toml
-        .replace(
-            "spacing_deg = 30.0",
-            "spacing_deg = 30.0\nslots = \"reference\"",
-        )
-        .replace(
-            "inclination_deg = 97.4",
-            "inclination_deg = 97.4\ndrag_area_m2 = 0.0225",
-        )
-        .replace("range_m = 1.4e7 ", "range_m = 20.0 ");
-    assert!(text.contains("slots = \"reference\"") && text.contains("range_m = 20.0 "));
-    let scenario =
-        Scenario::from_toml(&text, "dd-flock-phasing (reference slots)", Path::new(".")).unwrap();
+    let scenario = builtin_with(
+        "dd-flock-phasing",
+        &[
+            (
+                "spacing_deg = 30.0",
+                "spacing_deg = 30.0\nslots = \"reference\"",
+            ),
+            (
+                "inclination_deg = 97.4",
+                "inclination_deg = 97.4\ndrag_area_m2 = 0.0225",
+            ),
+            ("range_m = 1.4e7 ", "range_m = 20.0 "),
+        ],
+    );
     let mut sim = build_simulation(&scenario).unwrap();
     sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
     let results = sim.law_results();
@@ -121,16 +123,12 @@ fn val_flock_phases_about_the_reference_orbit_without_sensing() {
 
 /// `dd-flock-phasing` with its sensing replaced: `range_m = 20 m` and `ring_neighbours = k`.
 fn ring_sensing(k: usize) -> Simulation {
-    let text = satflock::scenario::builtin::find("dd-flock-phasing")
-        .unwrap()
-        .toml
-        .replace(
-            "range_m = 1.4e7 ",
-            &format!("ring_neighbours = {k}\nrange_m = 20.0 "),
-        );
-    assert!(text.contains("ring_neighbours"));
-    let scenario = Scenario::from_toml(&text, "dd-flock-phasing (ring)", Path::new(".")).unwrap();
-    build_simulation(&scenario).unwrap()
+    let ring = format!("ring_neighbours = {k}\nrange_m = 20.0 ");
+    build_simulation(&builtin_with(
+        "dd-flock-phasing",
+        &[("range_m = 1.4e7 ", &ring)],
+    ))
+    .unwrap()
 }
 
 /// The ring neighbourhood with 6 satellites on each side covers the 12-satellite flock: every satellite

@@ -22,27 +22,17 @@ use parquet::file::reader::{FileReader, SerializedFileReader};
 
 use satflock::output::{OutputFormat, RunData, Table};
 use satflock::run::{run_scenario_with, RunError, RunOptions};
-use satflock::scenario::{builtin, Scenario};
+use satflock::scenario::Scenario;
 use satflock::swarm::SimError;
+
+#[path = "common/builtin.rs"]
+mod builtin_variant;
+use builtin_variant::builtin_with;
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("satflock-parquet-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
-}
-
-/// A built-in scenario with text replacements (each must apply).
-fn builtin_with(name: &str, replacements: &[(&str, &str)]) -> Scenario {
-    let b = builtin::BUILTINS
-        .iter()
-        .find(|b| b.name == name)
-        .expect("a built-in scenario");
-    let mut text = b.toml.to_string();
-    for (from, to) in replacements {
-        assert!(text.contains(from), "{name}: `{from}` not found");
-        text = text.replace(from, to);
-    }
-    Scenario::from_toml(&text, name, Path::new(".")).expect("a valid scenario")
 }
 
 fn run(
