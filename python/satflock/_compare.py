@@ -24,14 +24,6 @@ def _pyarrow():
     return pyarrow
 
 
-def _label_of_spec(spec: str) -> str:
-    """The label ``satflock compare`` gives a controller: the built-in's name, or the file name without
-    its extension."""
-    if spec.startswith("builtin:"):
-        return spec[len("builtin:") :]
-    return os.path.splitext(os.path.basename(spec))[0] or spec
-
-
 def _entries(case: Scenario, laws: Sequence[Any]) -> List[Tuple[str, str, str, Scenario, Any]]:
     """(label, controller, law_name, scenario, python_law) per law, checked before anything runs."""
     if isinstance(laws, (str, bytes)) or not isinstance(laws, Sequence) or len(laws) == 0:
@@ -44,7 +36,8 @@ def _entries(case: Scenario, laws: Sequence[Any]) -> List[Tuple[str, str, str, S
         if isinstance(law, (str, os.PathLike)):
             spec = os.fspath(law)
             scenario = case.with_controller(spec)
-            entries.append((_label_of_spec(spec), spec, str(scenario["law.name"]), scenario, None))
+            label = _native.controller_label(spec)
+            entries.append((label, spec, str(scenario["law.name"]), scenario, None))
         elif callable(getattr(law, "command", None)):
             name = str(getattr(law, "name", type(law).__name__))
             entries.append((name, f"python:{name}", "python", case.copy(), law))

@@ -45,5 +45,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<law::PyLawContext>()?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
     m.add_function(wrap_pyfunction!(run::scalar_outcomes, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario::controller_label, m)?)?;
     Ok(())
 }

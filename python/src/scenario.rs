@@ -273,3 +273,13 @@ impl PyScenario {
         format!("Scenario(name={:?}, source={:?})", self.name(), self.source)
     }
 }
+
+/// The label `satflock compare` gives the controller `spec` (a file or `builtin:NAME`): the built-in's
+/// name, or the file name without its extension (`Controller::label`). Raises `ScenarioError` for a
+/// controller that cannot be loaded.
+#[pyfunction]
+pub fn controller_label(spec: &str) -> PyResult<String> {
+    Controller::load(spec)
+        .map(|c| c.label())
+        .map_err(|e| scenario_error(&e))
+}
