@@ -145,6 +145,22 @@ pub struct DragPhasing {
     pub switches: u64,
 }
 
+/// Keeps, of `(rank, phase)` pairs sorted by rank and holding `own_rank`, only the run of consecutive
+/// ranks that holds it: a satellite seen across the flock's open end (the last rank behind the first,
+/// in a ring neighbourhood) is not taken for a near one.
+fn keep_consecutive_ranks(sensed: &mut Vec<(usize, f64)>, own_rank: usize) {
+    let own = sensed.partition_point(|e| e.0 < own_rank);
+    let first = (0..own)
+        .rev()
+        .find(|&k| sensed[k].0 + 1 != sensed[k + 1].0)
+        .map_or(0, |k| k + 1);
+    let last = (own..sensed.len() - 1)
+        .find(|&k| sensed[k].0 + 1 != sensed[k + 1].0)
+        .unwrap_or(sensed.len() - 1);
+    sensed.truncate(last + 1);
+    sensed.drain(..first);
+}
+
 /// `d` wrapped to (−π, π] \[rad\].
 fn wrap_rad(d: f64) -> f64 {
     PI - (PI - d).rem_euclid(TAU)
@@ -305,19 +321,9 @@ impl GuidanceLaw for DifferentialDrag {
                 });
                 sensed.sort_by_key(|e| e.0);
                 // Sensing part of the flock (a ring neighbourhood, or a range shorter than the
-                // flock): only the run of consecutive ranks around its own, so a neighbour across
-                // the flock's ends (the last rank seen behind the first) is not taken for a near one.
+                // flock): only the run of consecutive ranks around its own.
                 if sensed.len() < self.ranked {
-                    let own = sensed.partition_point(|e| e.0 < own_rank);
-                    let first = (0..own)
-                        .rev()
-                        .find(|&k| sensed[k].0 + 1 != sensed[k + 1].0)
-                        .map_or(0, |k| k + 1);
-                    let last = (own..sensed.len() - 1)
-                        .find(|&k| sensed[k].0 + 1 != sensed[k + 1].0)
-                        .unwrap_or(sensed.len() - 1);
-                    sensed.truncate(last + 1);
-                    sensed.drain(..first);
+                    keep_consecutive_ranks(&mut sensed, own_rank);
                 }
                 self.error_rad(own_rank, &sensed)
             }
@@ -447,6 +453,28 @@ mod tests {
             slots: SlotAnchor::Flock,
         })
         .unwrap()
+    }
+
+    #[test]
+    fn only_the_run_of_consecutive_ranks_around_its_own_is_kept() {
+        let ranks = |sensed: &[(usize, f64)]| sensed.iter().map(|e| e.0).collect::<Vec<_>>();
+        // Rank 0 with one ring neighbour each side in a flock of 12: 11 is seen behind it across the
+        // open end.
+        let mut across = vec![(0, 0.0), (1, 0.5), (11, -0.5)];
+        across.sort_by_key(|e| e.0);
+        keep_consecutive_ranks(&mut across, 0);
+        assert_eq!(ranks(&across), [0, 1]);
+        // Gaps on both sides of rank 5: 2 and 9 are cut off, 4 … 7 kept.
+        let mut gaps: Vec<(usize, f64)> = [2, 4, 5, 6, 7, 9].iter().map(|&r| (r, 0.0)).collect();
+        keep_consecutive_ranks(&mut gaps, 5);
+        assert_eq!(ranks(&gaps), [4, 5, 6, 7]);
+        // The last rank alone with its lower neighbours; a whole run is kept whole.
+        let mut end: Vec<(usize, f64)> = [0, 9, 10, 11].iter().map(|&r| (r, 0.0)).collect();
+        keep_consecutive_ranks(&mut end, 11);
+        assert_eq!(ranks(&end), [9, 10, 11]);
+        let mut whole: Vec<(usize, f64)> = (3..8).map(|r| (r, 0.0)).collect();
+        keep_consecutive_ranks(&mut whole, 3);
+        assert_eq!(ranks(&whole), [3, 4, 5, 6, 7]);
     }
 
     #[test]
