@@ -54,6 +54,7 @@ pub mod time;
 
 /// What most users need, in one import: `use satflock::prelude::*;`.
 pub mod prelude {
+    pub use crate::capabilities;
     pub use crate::environment::{Obstacle, Threat};
     pub use crate::guidance::LawConfig;
     pub use crate::orbit::{
@@ -63,8 +64,9 @@ pub mod prelude {
     pub use crate::run::{build_simulation, run_scenario, RunError};
     pub use crate::scenario::{Scenario, ScenarioError};
     pub use crate::swarm::{
-        Actuator, Broadcast, CommandKind, ControlTiming, DynamicsModel, GuidanceLaw, Law,
-        LawContext, LawError, LimitKind, NullRecorder, Recorder, SatelliteInit, SatelliteView,
-        SimError, Simulation, SimulationConfig, Snapshot, SwarmView,
+        Actuator, Better, Broadcast, Centralised, CommandKind, CommandsDrag, ControlTiming,
+        Diagnostics, DynamicsModel, GuidanceLaw, Headline, Law, LawContext, LawError, LimitKind,
+        NullRecorder, Recorder, Reports, SatelliteInit, SatelliteView, SimError, Simulation,
+        SimulationConfig, Snapshot, SwarmView, TargetFormation,
     };
 }

@@ -14,7 +14,9 @@ use nalgebra::Vector3;
 use satflock::guidance::hold::{Feedforward, Hold, HoldParameters};
 use satflock::run::{run_prepared, run_scenario, RunError};
 use satflock::scenario::{Scenario, ScenarioError};
-use satflock::swarm::{GuidanceLaw, Law, LawContext, LawError, SatelliteView, SimError, SwarmView};
+use satflock::swarm::{
+    Centralised, GuidanceLaw, Law, LawContext, LawError, SatelliteView, SimError, SwarmView,
+};
 
 fn scratch(name: &str) -> PathBuf {
     let dir =
@@ -118,6 +120,7 @@ struct FailsAt {
 impl GuidanceLaw for FailsAt {
     type State = ();
     type Parameters = ();
+    satflock::capabilities!(Centralised);
 
     fn name(&self) -> &'static str {
         "fails-at"
@@ -130,7 +133,9 @@ impl GuidanceLaw for FailsAt {
     fn set_parameters(&mut self, _: &()) -> Result<(), LawError> {
         Ok(())
     }
+}
 
+impl Centralised for FailsAt {
     fn centralised_due(&self, time_s: f64) -> bool {
         time_s >= self.at_s
     }

@@ -1,4 +1,4 @@
-//! Drag as an actuator (`[satellites] drag_modes_m2`, `GuidanceLaw::drag_command`): the engine applies
+//! Drag as an actuator (`[satellites] drag_modes_m2`, `CommandsDrag::drag_command`): the engine applies
 //! a law's drag commands to the force set, keeps the minimum dwell, counts the changes and records the
 //! area, and a drag-only law spends no propellant.
 //!
@@ -18,8 +18,8 @@ use nalgebra::Vector3;
 use satflock::orbit::{CartesianState, KeplerianElements};
 use satflock::scenario::Scenario;
 use satflock::swarm::{
-    Broadcast, DragCommand, GuidanceLaw, Law, LawContext, LawError, NullRecorder, SatelliteView,
-    SimError, Simulation, SwarmView,
+    Broadcast, CommandsDrag, DragCommand, GuidanceLaw, Law, LawContext, LawError, NullRecorder,
+    SatelliteView, SimError, Simulation, SwarmView,
 };
 
 /// Density at the reference altitude \[kg/m^3\], the layer's reference altitude \[m\] and scale height
@@ -86,6 +86,7 @@ impl GuidanceLaw for Split {
     /// (id, ticks seen).
     type State = (usize, u64);
     type Parameters = ();
+    satflock::capabilities!(CommandsDrag);
 
     fn name(&self) -> &'static str {
         "split"
@@ -116,10 +117,12 @@ impl GuidanceLaw for Split {
         Vector3::zeros()
     }
 
-    fn commands_drag(&self) -> bool {
-        true
+    fn set_parameters(&mut self, _: &()) -> Result<(), LawError> {
+        Ok(())
     }
+}
 
+impl CommandsDrag<(usize, u64)> for Split {
     fn drag_command(&self, &(id, ticks): &(usize, u64)) -> Option<DragCommand> {
         let high = match self.flip_every_ticks {
             None => id == 1,
@@ -130,10 +133,6 @@ impl GuidanceLaw for Split {
         } else {
             DragCommand::Minimum
         })
-    }
-
-    fn set_parameters(&mut self, _: &()) -> Result<(), LawError> {
-        Ok(())
     }
 }
 

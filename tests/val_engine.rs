@@ -10,9 +10,10 @@ use satflock::integrate::{IntegratorMethod, Tolerances};
 use satflock::orbit::{EarthModel, GravityModel, KeplerianElements, RelativeStateHill};
 use satflock::relative::{Hcw, SchweighartSedwick};
 use satflock::swarm::{
-    Actuator, ControlTiming, DynamicsModel, Event, EventAction, GuidanceLaw, Law, LawContext,
-    LawError, LimitKind, NullRecorder, Origin, Recorder, SatelliteInit, SatelliteView, Selection,
-    Sensing, SimError, Simulation, SimulationConfig, Snapshot,
+    Actuator, Centralised, ControlTiming, Diagnostics, DynamicsModel, Event, EventAction,
+    GuidanceLaw, Law, LawContext, LawError, LimitKind, NullRecorder, Origin, Recorder,
+    SatelliteInit, SatelliteView, Selection, Sensing, SimError, Simulation, SimulationConfig,
+    Snapshot,
 };
 
 const A_M: f64 = 6_978_137.0;
@@ -658,23 +659,28 @@ struct CentralisedCounter {
 impl GuidanceLaw for CentralisedCounter {
     type State = ();
     type Parameters = ();
+    satflock::capabilities!(Centralised);
     fn name(&self) -> &'static str {
         "centralised-counter"
-    }
-    fn centralised_due(&self, time_s: f64) -> bool {
-        (time_s / 10.0 - (time_s / 10.0).round()).abs() < 1e-9
-    }
-    fn centralised_update(
-        &mut self,
-        swarm: &satflock::swarm::SwarmView<'_>,
-    ) -> Result<(), LawError> {
-        self.live_count = swarm.active.iter().filter(|a| **a).count();
-        Ok(())
     }
     fn command(&self, _s: &SatelliteView<'_>, _state: &(), _context: &LawContext) -> Vector3<f64> {
         Vector3::new(1e-6 * self.live_count as f64, 0.0, 0.0)
     }
     fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
+        Ok(())
+    }
+}
+
+impl Centralised for CentralisedCounter {
+    fn centralised_due(&self, time_s: f64) -> bool {
+        (time_s / 10.0 - (time_s / 10.0).round()).abs() < 1e-9
+    }
+
+    fn centralised_update(
+        &mut self,
+        swarm: &satflock::swarm::SwarmView<'_>,
+    ) -> Result<(), LawError> {
+        self.live_count = swarm.active.iter().filter(|a| **a).count();
         Ok(())
     }
 }
@@ -709,6 +715,7 @@ struct Clocked(&'static [&'static str], f64);
 impl GuidanceLaw for Clocked {
     type State = ();
     type Parameters = ();
+    satflock::capabilities!(Diagnostics);
     fn name(&self) -> &'static str {
         "clocked"
     }
@@ -718,9 +725,13 @@ impl GuidanceLaw for Clocked {
     fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
+}
+
+impl Diagnostics<()> for Clocked {
     fn metric_names(&self) -> &'static [&'static str] {
         self.0
     }
+
     fn record_metrics(
         &mut self,
         swarm: &satflock::swarm::SwarmView<'_>,

@@ -14,10 +14,10 @@ use satflock::orbit::{EarthModel, GravityModel, KeplerianElements, RelativeState
 use satflock::random::{Purpose, RandomStream};
 use satflock::relative::Hcw;
 use satflock::swarm::{
-    Actuator, Broadcast, CommandKind, ControlTiming, DynamicsModel, EnvironmentSnapshot, Event,
-    EventAction, GuidanceLaw, Law, LawContext, LawError, LimitKind, NullRecorder, Origin, Recorder,
-    SatelliteInit, SatelliteView, Selection, Sensing, SimError, Simulation, SimulationConfig,
-    Snapshot, SwarmView,
+    Actuator, Broadcast, CommandKind, ControlTiming, Diagnostics, DynamicsModel,
+    EnvironmentSnapshot, Event, EventAction, GuidanceLaw, Law, LawContext, LawError, LimitKind,
+    NullRecorder, Origin, Recorder, SatelliteInit, SatelliteView, Selection, Sensing, SimError,
+    Simulation, SimulationConfig, Snapshot, SwarmView,
 };
 
 const A_M: f64 = 6_978_137.0;
@@ -154,6 +154,7 @@ struct NoisyConsensus {
 impl GuidanceLaw for NoisyConsensus {
     type State = f64;
     type Parameters = ();
+    satflock::capabilities!(Diagnostics);
 
     fn name(&self) -> &'static str {
         "noisy-consensus"
@@ -195,7 +196,9 @@ impl GuidanceLaw for NoisyConsensus {
     fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
+}
 
+impl Diagnostics<f64> for NoisyConsensus {
     fn output_names(&self) -> &'static [&'static str] {
         &["value"]
     }
@@ -213,6 +216,7 @@ struct Averaging;
 impl GuidanceLaw for Averaging {
     type State = f64;
     type Parameters = ();
+    satflock::capabilities!(Diagnostics);
 
     fn name(&self) -> &'static str {
         "averaging"
@@ -248,7 +252,9 @@ impl GuidanceLaw for Averaging {
     fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
+}
 
+impl Diagnostics<f64> for Averaging {
     fn output_names(&self) -> &'static [&'static str] {
         &["value"]
     }
@@ -268,6 +274,7 @@ struct SensedError {
 impl GuidanceLaw for SensedError {
     type State = [f64; 3];
     type Parameters = ();
+    satflock::capabilities!(Diagnostics);
 
     fn name(&self) -> &'static str {
         "sensed-error"
@@ -300,7 +307,9 @@ impl GuidanceLaw for SensedError {
     fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
         Ok(())
     }
+}
 
+impl Diagnostics<[f64; 3]> for SensedError {
     fn output_names(&self) -> &'static [&'static str] {
         &["error_x_m", "error_y_m", "error_z_m"]
     }

@@ -1,4 +1,4 @@
-//! The laws' target formations (`GuidanceLaw::target_formation_hill_m`, written to `scene.json`),
+//! The laws' target formations (`TargetFormation::target_formation_hill_m`, written to `scene.json`),
 //! checked against the geometry each built-in scenario states in words: gao-circle's ring of radius
 //! 0.5 km in the orbital plane, gao-double-circle's concentric rings of 1 ± 0.5 km, gao-sphere-surface's
 //! sphere of 1 km, es-e0's rhombus of side 6 m whose nodes the satellites start on, hold's slots (the

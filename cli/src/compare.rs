@@ -508,7 +508,7 @@ const FINAL_ROWS: &[Row] = &[
 
 /// The rows of the side-by-side table for this case and these laws, in order: the outcomes of every
 /// run, those of the case's threats and obstacles, the final five elements, then each law's headline
-/// outcomes ([`satflock::swarm::GuidanceLaw::headlines`], declared by the law; once per law name, in
+/// outcomes ([`satflock::swarm::Reports::headlines`], declared by the law; once per law name, in
 /// the order of the first `--law` with it), and the wall time.
 fn rows(case: &Scenario, laws: &[Law]) -> Vec<Row> {
     let mut rows: Vec<Row> = COMMON_ROWS.to_vec();

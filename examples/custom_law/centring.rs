@@ -8,12 +8,11 @@
 //! push for every satellite on its estimate, with the centroid's HCW natural acceleration cancelled. See
 //! `examples/custom_law.rs` for the details.
 
-use std::collections::BTreeMap;
-
 use nalgebra::{Vector3, Vector6};
 use satflock::relative::Hcw;
 use satflock::swarm::{
-    Better, Broadcast, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmView,
+    Better, Broadcast, Diagnostics, GuidanceLaw, Headline, LawContext, LawError, Reports,
+    SatelliteView, SwarmView,
 };
 use serde::{Deserialize, Serialize};
 
@@ -94,28 +93,10 @@ fn true_centroid(swarm: &SwarmView<'_>) -> Option<Vector3<f64>> {
 impl GuidanceLaw for Centring {
     type State = Memory;
     type Parameters = CentringParameters;
+    satflock::capabilities!(Reports, Diagnostics);
 
     fn name(&self) -> &'static str {
         NAME
-    }
-
-    /// The rows `satflock compare` shows for this law.
-    fn headlines(&self) -> &'static [Headline] {
-        const HEADLINES: &[Headline] = &[
-            Headline::new(
-                "centroid_offset_m",
-                "final centroid offset",
-                "m",
-                Better::Lower,
-            ),
-            Headline::new(
-                "worst_estimate_error_m",
-                "final worst centroid estimate error",
-                "m",
-                Better::Lower,
-            ),
-        ];
-        HEADLINES
     }
 
     /// Start: every satellite's first guess of the centroid is its own state.
@@ -193,7 +174,59 @@ impl GuidanceLaw for Centring {
             kp.sqrt()
         })
     }
+}
 
+/// The law's results (`summary.json` `law`), when a satellite is alive at the end.
+#[derive(Serialize)]
+pub struct CentringResults {
+    /// The true centroid's final distance from the origin \[m\].
+    pub centroid_offset_m: f64,
+    /// The largest distance from an active satellite's estimate to the true centroid \[m\].
+    pub worst_estimate_error_m: f64,
+}
+
+/// What the law reports: typed results and the headlines among them.
+impl Reports<Memory> for Centring {
+    type Results = Option<CentringResults>;
+
+    /// The rows `satflock compare` shows for this law.
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new(
+                "centroid_offset_m",
+                "final centroid offset",
+                "m",
+                Better::Lower,
+            ),
+            Headline::new(
+                "worst_estimate_error_m",
+                "final worst centroid estimate error",
+                "m",
+                Better::Lower,
+            ),
+        ];
+        HEADLINES
+    }
+
+    /// `centroid_offset_m`: the true centroid's final distance from the origin; `worst_estimate_error_m`:
+    /// the largest distance from an active satellite's estimate to the true centroid.
+    fn results(&self, swarm: &SwarmView<'_>, states: &[Memory]) -> Option<CentringResults> {
+        let centroid = true_centroid(swarm)?;
+        let worst_estimate_error_m = states
+            .iter()
+            .zip(swarm.active)
+            .filter(|(_, &active)| active)
+            .map(|(m, _)| (m.centroid.fixed_rows::<3>(0) - centroid).norm())
+            .fold(0.0, f64::max);
+        Some(CentringResults {
+            centroid_offset_m: centroid.norm(),
+            worst_estimate_error_m,
+        })
+    }
+}
+
+/// Extra trajectory columns.
+impl Diagnostics<Memory> for Centring {
     /// Per-satellite outputs: written as trajectory columns by the CLI, read below by our recorder.
     fn output_names(&self) -> &'static [&'static str] {
         &["centroid_x_m", "centroid_y_m", "centroid_z_m", "neighbours"]
@@ -202,26 +235,5 @@ impl GuidanceLaw for Centring {
     fn write_outputs(&self, state: &Memory, values: &mut [f64]) {
         values[..3].copy_from_slice(&state.centroid.as_slice()[..3]);
         values[3] = state.neighbours as f64;
-    }
-
-    /// `centroid_offset_m`: the true centroid's final distance from the origin; `worst_estimate_error_m`:
-    /// the largest distance from an active satellite's estimate to the true centroid.
-    fn results(
-        &self,
-        swarm: &SwarmView<'_>,
-        states: &[Memory],
-    ) -> BTreeMap<String, serde_json::Value> {
-        let mut out = BTreeMap::new();
-        if let Some(centroid) = true_centroid(swarm) {
-            let worst = states
-                .iter()
-                .zip(swarm.active)
-                .filter(|(_, &active)| active)
-                .map(|(m, _)| (m.centroid.fixed_rows::<3>(0) - centroid).norm())
-                .fold(0.0, f64::max);
-            out.insert("centroid_offset_m".into(), centroid.norm().into());
-            out.insert("worst_estimate_error_m".into(), worst.into());
-        }
-        out
     }
 }

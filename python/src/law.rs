@@ -21,7 +21,7 @@ use pyo3::types::PyString;
 use satflock::grid::NeighbourGrid;
 use satflock::scenario::{Prepared, Scenario, ScenarioError};
 use satflock::swarm::{
-    ControlTiming, GuidanceLaw, Law, LawContext, LawError, SatelliteView, SwarmView,
+    Centralised, ControlTiming, GuidanceLaw, Law, LawContext, LawError, SatelliteView, SwarmView,
 };
 
 use crate::errors::scenario_error;
@@ -340,6 +340,7 @@ fn context<'py>(
 impl GuidanceLaw for PythonLaw {
     type State = ();
     type Parameters = ();
+    satflock::capabilities!(Centralised);
 
     /// Registry name; the user's name is in every message of the law's own errors.
     fn name(&self) -> &'static str {
@@ -362,7 +363,9 @@ impl GuidanceLaw for PythonLaw {
     fn set_parameters(&mut self, _parameters: &()) -> Result<(), LawError> {
         Ok(())
     }
+}
 
+impl Centralised for PythonLaw {
     fn centralised_due(&self, _time_s: f64) -> bool {
         true
     }

@@ -30,15 +30,14 @@
 //! Units: SI inside (m, kg, s). The paper's km-based gains convert as k_f \[kg/(m·s²)\] = 10⁻³ ×
 //! k_f \[kg/(km·s²)\]; k_c \[kg/s²\] and k_v \[kg/s\] keep their numbers; lengths ×1000 (method page §1.2).
 
-use std::collections::BTreeMap;
-
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::orbit::{gao_to_hill, hill_to_gao};
 use crate::relative::Hcw;
 use crate::swarm::{
-    Better, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmFacts, SwarmView,
+    Better, Diagnostics, GuidanceLaw, Headline, LawContext, LawError, Reports, SatelliteView,
+    SwarmFacts, SwarmView, TargetFormation,
 };
 
 /// Regularisation radius ε of the shape coordinate at the cone point ρ = 0 (resp. d = 0) \[m\]
@@ -499,22 +498,10 @@ impl Bifurcating {
 impl GuidanceLaw for Bifurcating {
     type State = ();
     type Parameters = BifurcatingParameters;
+    crate::capabilities!(Reports, Diagnostics, TargetFormation);
 
     fn name(&self) -> &'static str {
         "bifurcating"
-    }
-
-    fn headlines(&self) -> &'static [Headline] {
-        const HEADLINES: &[Headline] = &[
-            Headline::new("time_to_shape_s", "time to shape", "s", Better::Lower),
-            Headline::new(
-                "shape_max_residual_m",
-                "final shape residual",
-                "m",
-                Better::Lower,
-            ),
-        ];
-        HEADLINES
     }
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
@@ -557,6 +544,73 @@ impl GuidanceLaw for Bifurcating {
         Ok(())
     }
 
+    /// Largest |root| of m s² + k_v s + K = 0, K = the formation stiffness over the occupied region plus
+    /// 12 k_c (the repulsion's curvature k_c per neighbour, for a satellite's close neighbours in 3-D).
+    fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {
+        let p = &self.parameters;
+        let c = p.k_v_kg_per_s / mass_kg;
+        let k = (p.formation_stiffness_n_per_m() + 12.0 * p.k_c_kg_per_s2) / mass_kg;
+        let disc = c * c - 4.0 * k;
+        Some(if disc > 0.0 {
+            0.5 * (c + disc.sqrt())
+        } else {
+            k.sqrt()
+        })
+    }
+}
+
+/// The `bifurcating` law's results (`summary.json` `law`; method page §6), over live satellites.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BifurcatingResults {
+    /// From the last shape command to the first recording meeting the 5 % criterion \[s\] (null if
+    /// not reached; resolution = the recording interval).
+    pub time_to_shape_s: Option<f64>,
+    /// Final largest distance from the nearest stable level set \[m\] ([`ShapeError::max_residual_m`]).
+    pub shape_max_residual_m: Option<f64>,
+    /// Final largest out-of-plane distance \[m\] ([`ShapeError::max_out_of_plane_m`]).
+    pub shape_max_out_of_plane_m: f64,
+    /// The size the 5 % criterion is relative to \[m\] ([`ShapeError::size_m`]).
+    pub shape_size_m: Option<f64>,
+    /// Whether the final shape meets the 5 % criterion (null where the shape has no size).
+    pub shape_reached: Option<bool>,
+    /// Final largest shape coordinate \[m\] ([`ShapeError::max_shape_coordinate_m`]).
+    pub shape_max_coordinate_m: f64,
+}
+
+impl Reports<()> for Bifurcating {
+    type Results = BifurcatingResults;
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new("time_to_shape_s", "time to shape", "s", Better::Lower),
+            Headline::new(
+                "shape_max_residual_m",
+                "final shape residual",
+                "m",
+                Better::Lower,
+            ),
+        ];
+        HEADLINES
+    }
+
+    /// Final shape error (method page §6): `shape_max_residual_m`, `shape_max_out_of_plane_m`, `shape_size_m`,
+    /// `shape_reached` (5 % criterion) and `shape_max_coordinate_m`, over live satellites, and
+    /// `time_to_shape_s` (from the last shape command to the first recording meeting the 5 % criterion;
+    /// null if not reached; resolution = the recording interval).
+    fn results(&self, swarm: &SwarmView<'_>, _states: &[()]) -> BifurcatingResults {
+        let error = self.swarm_shape_error(swarm);
+        BifurcatingResults {
+            time_to_shape_s: self.time_to_shape_s(),
+            shape_max_residual_m: error.max_residual_m,
+            shape_max_out_of_plane_m: error.max_out_of_plane_m,
+            shape_size_m: error.size_m,
+            shape_reached: error.reached(),
+            shape_max_coordinate_m: error.max_shape_coordinate_m,
+        }
+    }
+}
+
+impl Diagnostics<()> for Bifurcating {
     fn metric_names(&self) -> &'static [&'static str] {
         METRIC_NAMES
     }
@@ -575,55 +629,11 @@ impl GuidanceLaw for Bifurcating {
         values[1] = error.max_out_of_plane_m;
         values[2] = reached.map_or(f64::NAN, |r| if r { 1.0 } else { 0.0 });
     }
+}
 
+impl TargetFormation for Bifurcating {
     /// The stable level sets of the current shape ([`BifurcatingParameters::target_points_hill_m`]).
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
         self.parameters.target_points_hill_m()
-    }
-
-    /// Largest |root| of m s² + k_v s + K = 0, K = the formation stiffness over the occupied region plus
-    /// 12 k_c (the repulsion's curvature k_c per neighbour, for a satellite's close neighbours in 3-D).
-    fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {
-        let p = &self.parameters;
-        let c = p.k_v_kg_per_s / mass_kg;
-        let k = (p.formation_stiffness_n_per_m() + 12.0 * p.k_c_kg_per_s2) / mass_kg;
-        let disc = c * c - 4.0 * k;
-        Some(if disc > 0.0 {
-            0.5 * (c + disc.sqrt())
-        } else {
-            k.sqrt()
-        })
-    }
-
-    /// Final shape error (method page §6): `shape_max_residual_m`, `shape_max_out_of_plane_m`, `shape_size_m`,
-    /// `shape_reached` (5 % criterion) and `shape_max_coordinate_m`, over live satellites, and
-    /// `time_to_shape_s` (from the last shape command to the first recording meeting the 5 % criterion;
-    /// null if not reached; resolution = the recording interval).
-    fn results(
-        &self,
-        swarm: &SwarmView<'_>,
-        _states: &[()],
-    ) -> BTreeMap<String, serde_json::Value> {
-        let error = self.swarm_shape_error(swarm);
-        let mut out = BTreeMap::new();
-        out.insert(
-            "time_to_shape_s".into(),
-            serde_json::json!(self.time_to_shape_s()),
-        );
-        out.insert(
-            "shape_max_residual_m".into(),
-            serde_json::json!(error.max_residual_m),
-        );
-        out.insert(
-            "shape_max_out_of_plane_m".into(),
-            serde_json::json!(error.max_out_of_plane_m),
-        );
-        out.insert("shape_size_m".into(), serde_json::json!(error.size_m));
-        out.insert("shape_reached".into(), serde_json::json!(error.reached()));
-        out.insert(
-            "shape_max_coordinate_m".into(),
-            serde_json::json!(error.max_shape_coordinate_m),
-        );
-        out
     }
 }

@@ -32,7 +32,6 @@
 //! (`[sensing] ring_neighbours`); sensing only part of the flock, it uses the run of consecutive ranks
 //! around its own. It cannot change the plane, and its time to phase grows as 1/ΔB (method page).
 
-use std::collections::BTreeMap;
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
 
@@ -40,7 +39,8 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::swarm::{
-    Broadcast, DragCommand, GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView,
+    Broadcast, CommandsDrag, Diagnostics, DragCommand, GuidanceLaw, LawContext, LawError, Reports,
+    SatelliteView, SwarmView,
 };
 
 /// Seconds per day.
@@ -253,6 +253,7 @@ impl DifferentialDrag {
 impl GuidanceLaw for DifferentialDrag {
     type State = DragPhasing;
     type Parameters = DifferentialDragParameters;
+    crate::capabilities!(CommandsDrag, Diagnostics, Reports);
 
     fn name(&self) -> &'static str {
         "differential-drag"
@@ -350,10 +351,14 @@ impl GuidanceLaw for DifferentialDrag {
         Vector3::zeros()
     }
 
-    fn commands_drag(&self) -> bool {
-        true
+    fn set_parameters(&mut self, parameters: &DifferentialDragParameters) -> Result<(), LawError> {
+        parameters.check()?;
+        self.parameters = parameters.clone();
+        Ok(())
     }
+}
 
+impl CommandsDrag<DragPhasing> for DifferentialDrag {
     fn drag_command(&self, state: &DragPhasing) -> Option<DragCommand> {
         Some(if state.high {
             DragCommand::Maximum
@@ -361,13 +366,9 @@ impl GuidanceLaw for DifferentialDrag {
             DragCommand::Minimum
         })
     }
+}
 
-    fn set_parameters(&mut self, parameters: &DifferentialDragParameters) -> Result<(), LawError> {
-        parameters.check()?;
-        self.parameters = parameters.clone();
-        Ok(())
-    }
-
+impl Diagnostics<DragPhasing> for DifferentialDrag {
     fn output_names(&self) -> &'static [&'static str] {
         &["dd_phase_error_deg", "dd_high_drag"]
     }
@@ -410,32 +411,36 @@ impl GuidanceLaw for DifferentialDrag {
             .filter(|(s, a)| **a && s.high)
             .count() as f64;
     }
+}
 
-    fn results(
-        &self,
-        _swarm: &SwarmView<'_>,
-        states: &[DragPhasing],
-    ) -> BTreeMap<String, serde_json::Value> {
-        let mut out = BTreeMap::new();
-        out.insert(
-            "time_to_phase_s".into(),
-            self.phased_since_s
-                .map_or(serde_json::Value::Null, |t| t.into()),
-        );
-        out.insert(
-            "max_phase_error_deg".into(),
-            if self.last_max_error_deg.is_finite() {
-                self.last_max_error_deg.into()
-            } else {
-                serde_json::Value::Null
-            },
-        );
-        out.insert(
-            "mode_switches".into(),
-            states.iter().map(|s| s.switches).sum::<u64>().into(),
-        );
-        out.insert("thrust_delta_v_mps".into(), 0.0.into());
-        out
+/// The `differential-drag` law's results (`summary.json` `law`; the engine adds
+/// `mean_altitude_decay_m`, as for every law that commands drag).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DifferentialDragResults {
+    /// Since when the largest spacing error has stayed within the phased tolerance \[s\] (null if it
+    /// is not within it at the last recording).
+    pub time_to_phase_s: Option<f64>,
+    /// The largest spacing error at the last recording \[deg\] (null before one).
+    pub max_phase_error_deg: Option<f64>,
+    /// Drag-mode changes, summed over the satellites.
+    pub mode_switches: u64,
+    /// The thrust Δv the law uses: none \[m/s\].
+    pub thrust_delta_v_mps: f64,
+}
+
+impl Reports<DragPhasing> for DifferentialDrag {
+    type Results = DifferentialDragResults;
+
+    fn results(&self, _swarm: &SwarmView<'_>, states: &[DragPhasing]) -> DifferentialDragResults {
+        DifferentialDragResults {
+            time_to_phase_s: self.phased_since_s,
+            max_phase_error_deg: self
+                .last_max_error_deg
+                .is_finite()
+                .then_some(self.last_max_error_deg),
+            mode_switches: states.iter().map(|s| s.switches).sum(),
+            thrust_delta_v_mps: 0.0,
+        }
     }
 }
 

@@ -17,7 +17,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::relative::Hcw;
-use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView};
+use crate::swarm::{GuidanceLaw, LawContext, LawError, SatelliteView, SwarmView, TargetFormation};
 
 /// Natural-acceleration feed-forward of the `hold` law.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -96,6 +96,7 @@ fn check(p: &HoldParameters) -> Result<(), LawError> {
 impl GuidanceLaw for Hold {
     type State = ();
     type Parameters = HoldParameters;
+    crate::capabilities!(TargetFormation);
 
     fn name(&self) -> &'static str {
         "hold"
@@ -131,15 +132,6 @@ impl GuidanceLaw for Hold {
         Ok(())
     }
 
-    /// Every satellite's slot (once the law has started).
-    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
-        (!self.start_positions_hill_m.is_empty()).then(|| {
-            (0..self.start_positions_hill_m.len())
-                .map(|id| self.slot_hill_m(id))
-                .collect()
-        })
-    }
-
     /// Largest |root| of s² + k_d s + k_p = 0.
     fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
         let (kp, kd) = (
@@ -151,6 +143,17 @@ impl GuidanceLaw for Hold {
             0.5 * (kd + disc.sqrt())
         } else {
             kp.sqrt()
+        })
+    }
+}
+
+impl TargetFormation for Hold {
+    /// Every satellite's slot (once the law has started).
+    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+        (!self.start_positions_hill_m.is_empty()).then(|| {
+            (0..self.start_positions_hill_m.len())
+                .map(|id| self.slot_hill_m(id))
+                .collect()
         })
     }
 }

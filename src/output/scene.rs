@@ -53,7 +53,7 @@ pub struct Scene {
     pub obstacles: Vec<SceneObstacle>,
     /// The formation the law at t = 0 steers to, Hill LVLH relative to the LVLH origin \[m\]: one point
     /// per slot, or points sampled on a target ring or surface
-    /// ([`crate::swarm::GuidanceLaw::target_formation_hill_m`]; absent when the law has none).
+    /// ([`crate::swarm::TargetFormation::target_formation_hill_m`]; absent when the law has none).
     pub target_formation_lvlh_m: Option<Vec<[f64; 3]>>,
 }
 

@@ -3,7 +3,7 @@
 //!
 //! A satellite flies in one of a few **drag modes** (attitudes), each with its drag reference area, or
 //! at any area within a range. A law commands a mode or an area ([`DragCommand`]) through its state
-//! ([`crate::swarm::GuidanceLaw::drag_command`]); the engine applies it at the control tick, holds it
+//! ([`crate::swarm::CommandsDrag::drag_command`]); the engine applies it at the control tick, holds it
 //! until the next, keeps a mode at least [`DragAttitudes::min_dwell_s`] before switching again, counts
 //! the switches, and records the area. Changing the area changes only the drag the force set computes:
 //! no propellant is spent, so the thrust Δv ledger is not touched.

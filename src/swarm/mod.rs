@@ -25,9 +25,10 @@ pub use drag_attitude::{DragAttitudeError, DragAttitudes, DragCommand, MAX_DRAG_
 pub use dynamics::DynamicsModel;
 pub use events::{Event, EventAction, Selection, ThrustAxis};
 pub use law::{
-    Better, Broadcast, CommandKind, EnvironmentView, GuidanceLaw, Headline, Law, LawContext,
-    LawError, LawParameters, Neighbour, SatelliteView, SensedObstacle, SensedThreat, SharedInfo,
-    SwarmFacts, SwarmView,
+    Better, Broadcast, Centralised, CommandKind, CommandsDrag, Diagnostics, EnvironmentView,
+    GuidanceLaw, Headline, Law, LawContext, LawError, LawParameters, Neighbour, Reports,
+    SatelliteView, SensedObstacle, SensedThreat, SerialisedReports, SharedInfo, SwarmFacts,
+    SwarmView, TargetFormation,
 };
 pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{

@@ -27,11 +27,11 @@ pub struct Snapshot<'a> {
     pub min_separation_m: f64,
     /// Pairs of live satellites closer than the sum of their radii at this time.
     pub collisions: usize,
-    /// The running law's metric names (see [`crate::swarm::GuidanceLaw::metric_names`]).
+    /// The running law's metric names (see [`crate::swarm::Diagnostics::metric_names`]).
     pub law_metric_names: &'static [&'static str],
     /// Their values now, in the same order.
     pub law_metrics: &'a [f64],
-    /// The running law's per-satellite output names (see [`crate::swarm::GuidanceLaw::output_names`]).
+    /// The running law's per-satellite output names (see [`crate::swarm::Diagnostics::output_names`]).
     pub law_output_names: &'static [&'static str],
     /// Their values now, satellite-major: satellite i's at `i * k .. (i + 1) * k`.
     pub law_outputs: &'a [f64],

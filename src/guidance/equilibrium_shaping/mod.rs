@@ -40,23 +40,26 @@
 pub mod desired;
 pub mod field;
 pub mod parameters;
+mod results;
 pub mod shaping;
 pub mod state_machine;
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use nalgebra::Vector3;
-use serde_json::{json, Value};
 
 use crate::relative::Hcw;
 use crate::swarm::{
-    Better, Broadcast, CommandKind, GuidanceLaw, Headline, LawContext, LawError, SatelliteView,
-    SwarmFacts, SwarmView,
+    Broadcast, CommandKind, Diagnostics, GuidanceLaw, LawContext, LawError, SatelliteView,
+    SwarmFacts, SwarmView, TargetFormation,
 };
 
 pub use desired::{DesiredVelocity, FieldSet, Tables, ThreatUse};
 pub use parameters::{EquilibriumShapingParameters, Escape, Feedforward, Formation, Strategy};
+pub use results::{
+    EquilibriumShapingResults, EsAvoidResults, EsCoefficient, EsPairAttraction, EsSatelliteResults,
+    EsTimelineEntry, EsWarningResults,
+};
 pub use shaping::{EsSolution, GatherAvoidDock, ShapingError};
 pub use state_machine::{EsState, MachineSettings, Mode, ModeChange, ModeEvent, Observation};
 
@@ -374,27 +377,10 @@ impl EquilibriumShaping {
 impl GuidanceLaw for EquilibriumShaping {
     type State = EsState;
     type Parameters = EquilibriumShapingParameters;
+    crate::capabilities!(Reports, Diagnostics, TargetFormation);
 
     fn name(&self) -> &'static str {
         "equilibrium-shaping"
-    }
-
-    fn headlines(&self) -> &'static [Headline] {
-        const HEADLINES: &[Headline] = &[
-            Headline::new(
-                "es_formation_error_m",
-                "final formation error",
-                "m",
-                Better::Lower,
-            ),
-            Headline::new(
-                "es_min_threat_distance_m",
-                "miss distance to its threat",
-                "m",
-                Better::Higher,
-            ),
-        ];
-        HEADLINES
     }
 
     fn command_kind(&self) -> CommandKind {
@@ -500,7 +486,9 @@ impl GuidanceLaw for EquilibriumShaping {
         }
         Some(rate)
     }
+}
 
+impl Diagnostics<EsState> for EquilibriumShaping {
     fn output_names(&self) -> &'static [&'static str] {
         OUTPUT_NAMES
     }
@@ -535,153 +523,11 @@ impl GuidanceLaw for EquilibriumShaping {
         };
         values[3..6].copy_from_slice(&counts);
     }
+}
 
+impl TargetFormation for EquilibriumShaping {
     /// The nodes ξ_i (satellite i ↔ node i).
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
         Some(self.tables.nodes_m.clone())
-    }
-
-    /// `es_strategy`, `es_formation`, `es_nodes_hill_m`, the Eq. 4 attractions (`es_pair_attraction`, up
-    /// to [`MAX_LISTED_NODES`] nodes) or the ES solution (`es_avoid`: coefficients, residual, rank,
-    /// condition number, warnings),
-    /// `es_field_rate_at_nodes_per_s`, final `es_formation_error_m` and `es_centroid_displacement_m`,
-    /// `es_min_threat_distance_m` (over the recordings), and `es_satellites`: per satellite its mode,
-    /// distance to its node and to its node relative to the centroid, speed, the stored warning
-    /// (t_w, virtual sensing radius, K_i, escape direction) and its timeline of switches.
-    fn results(&self, swarm: &SwarmView<'_>, states: &[EsState]) -> BTreeMap<String, Value> {
-        let p = &self.parameters;
-        let t = &self.tables;
-        let n = t.nodes_m.len();
-        let mut out = BTreeMap::new();
-        out.insert("es_strategy".into(), json!(p.strategy.name()));
-        out.insert(
-            "es_formation".into(),
-            json!(match p.formation {
-                Formation::Rhombus => "rhombus",
-                Formation::Hexagon => "hexagon",
-                Formation::Custom => "custom",
-            }),
-        );
-        out.insert(
-            "es_nodes_hill_m".into(),
-            json!(t
-                .nodes_m
-                .iter()
-                .map(|v| [v.x, v.y, v.z])
-                .collect::<Vec<_>>()),
-        );
-        let fields = desired::fields_of(p.strategy);
-        if fields.iter().any(|(s, _)| *s == FieldSet::Pair) && n <= MAX_LISTED_NODES {
-            let pairs: Vec<Value> = shaping::all_pairs(n)
-                .into_iter()
-                .map(|(i, j)| {
-                    let delta = t.distance_m(i, j);
-                    json!({
-                        "pair": [i, j],
-                        "distance_m": delta,
-                        "a_per_s": shaping::pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2),
-                    })
-                })
-                .collect();
-            out.insert("es_pair_attraction".into(), json!(pairs));
-        }
-        if let Some(s) = &self.avoid {
-            let coefficients: Vec<Value> = s
-                .pairs
-                .iter()
-                .zip(&s.coefficients_per_s)
-                .map(|(&(i, j), b)| {
-                    json!({"pair": [i, j], "distance_m": t.distance_m(i, j), "b_per_s": b})
-                })
-                .collect();
-            out.insert(
-                "es_avoid".into(),
-                json!({
-                    "coefficients": coefficients,
-                    "residual_mps": s.residual,
-                    "rhs_norm_mps": s.rhs_norm,
-                    "rank": s.rank,
-                    "unknowns": s.pairs.len(),
-                    "condition_number": s.condition_number,
-                    "negative_coefficients": s.has_negative_coefficients(),
-                    "ill_conditioned": s.is_ill_conditioned(),
-                }),
-            );
-        }
-        out.insert(
-            "es_field_rate_at_nodes_per_s".into(),
-            json!(self.field_rate_per_s),
-        );
-        let (error, displacement) = self.formation_error(swarm);
-        out.insert("es_formation_error_m".into(), json!(error));
-        out.insert("es_centroid_displacement_m".into(), json!(displacement));
-        out.insert(
-            "es_min_threat_distance_m".into(),
-            json!(self
-                .min_threat_distance_m
-                .is_finite()
-                .then_some(self.min_threat_distance_m)),
-        );
-        let live: Vec<usize> = (0..swarm.len().min(n))
-            .filter(|i| swarm.active[*i])
-            .collect();
-        let centroid_shift = if live.is_empty() {
-            Vector3::zeros()
-        } else {
-            live.iter()
-                .map(|i| swarm.relative_states[*i].position_m - t.nodes_m[*i])
-                .sum::<Vector3<f64>>()
-                / live.len() as f64
-        };
-        let satellites: Vec<Value> = states
-            .iter()
-            .enumerate()
-            .take(n)
-            .map(|(i, s)| {
-                let state = swarm.relative_states[i];
-                let offset = state.position_m - t.nodes_m[i];
-                let timeline: Vec<Value> = s
-                    .timeline
-                    .iter()
-                    .map(|c| match c.event {
-                        ModeEvent::Mode { from, to } => {
-                            json!({
-                                "time_s": c.time_s,
-                                "event": "mode",
-                                "from": from.name(),
-                                "to": to.name(),
-                            })
-                        }
-                        ModeEvent::ThreatSensed => {
-                            json!({"time_s": c.time_s, "event": "threat-sensed"})
-                        }
-                        ModeEvent::ThreatLost => {
-                            json!({"time_s": c.time_s, "event": "threat-lost"})
-                        }
-                    })
-                    .collect();
-                let warning = s.warning.map(|w| {
-                    let a = w.escape_direction_hill;
-                    json!({
-                        "warned_at_s": w.warned_at_s,
-                        "virtual_sensing_radius_m": w.virtual_sensing_radius_m,
-                        "width_m2": w.width_m2,
-                        "escape_direction_hill": [a.x, a.y, a.z],
-                    })
-                });
-                json!({
-                    "id": i,
-                    "active": swarm.active[i],
-                    "mode": s.mode.name(),
-                    "node_distance_m": offset.norm(),
-                    "node_distance_about_centroid_m": (offset - centroid_shift).norm(),
-                    "speed_mps": state.velocity_mps.norm(),
-                    "warning": warning,
-                    "timeline": timeline,
-                })
-            })
-            .collect();
-        out.insert("es_satellites".into(), json!(satellites));
-        out
     }
 }

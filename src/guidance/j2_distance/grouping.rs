@@ -3,7 +3,7 @@
 //!
 //! **This step is centralised**: it needs every satellite's position and the pair parameters of every
 //! candidate pair at once (method page `docs/methods/j2-distance.md` §9, §13). The law runs it as the engine's
-//! periodic centralised step ([`crate::swarm::GuidanceLaw::centralised_update`]); the control itself
+//! periodic centralised step ([`crate::swarm::Centralised::centralised_update`]); the control itself
 //! stays decentralised (each satellite uses only its neighbours' relative states).
 //!
 //! Steps (method page §9.2–9.3):

@@ -21,7 +21,6 @@
 
 pub mod grouping;
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use nalgebra::{DMatrix, Matrix3, Vector3, Vector6};
@@ -31,7 +30,10 @@ use crate::orbit::RelativeStateHill;
 use crate::relative::j2_averaged::{
     connectable_time_s, z_frequency_feedforward_m_s2, AveragedJ2, OrbitParameters, SwarmPlane,
 };
-use crate::swarm::{Better, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmView};
+use crate::swarm::{
+    Better, Centralised, Diagnostics, GuidanceLaw, Headline, LawContext, LawError, Reports,
+    SatelliteView, SwarmView,
+};
 
 use grouping::{group, Components, GroupingSettings, Node};
 
@@ -364,26 +366,27 @@ struct Network {
     gains: Gains,
 }
 
-/// Running statistics of the groupings, for the results.
-#[derive(Clone, Debug, Default, Serialize)]
-struct GroupingStats {
-    updates: usize,
+/// Running statistics of the groupings, for the results (`grouping` of [`J2DistanceResults`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct GroupingStats {
+    /// Groupings run so far.
+    pub updates: usize,
     /// Edges added plus edges removed, summed over the updates after the first.
-    edge_changes: usize,
+    pub edge_changes: usize,
     /// Time of the last update that changed the edge set \[s\].
-    last_change_s: f64,
+    pub last_change_s: f64,
     /// Whether the graph over the live satellites was connected at every update.
-    always_connected: bool,
+    pub always_connected: bool,
     /// Largest number of connected components seen.
-    max_components: usize,
+    pub max_components: usize,
     /// Connected components of the current graph over the live satellites.
-    components: usize,
+    pub components: usize,
     /// Time of the first update whose graph was not connected \[s\] (`None` while always connected).
-    first_disconnected_s: Option<f64>,
+    pub first_disconnected_s: Option<f64>,
     /// Updates at which the connectivity-preserving grouping added edges (0 when it is off).
-    connectivity_repairs: usize,
+    pub connectivity_repairs: usize,
     /// Edges it added, summed over the updates.
-    connectivity_repair_edges: usize,
+    pub connectivity_repair_edges: usize,
 }
 
 /// Swarm-level metrics of one instant (see [`J2Distance::instant_metrics`]).
@@ -548,7 +551,7 @@ impl J2Distance {
     }
 
     /// The swarm-level metrics of one instant, relative to the LVLH origin (the reference satellite):
-    /// shared by [`GuidanceLaw::results`] and [`GuidanceLaw::record_metrics`]. `None` before the law
+    /// shared by [`Reports::results`] and [`Diagnostics::record_metrics`]. `None` before the law
     /// has started.
     fn instant_metrics(&self, swarm: &SwarmView<'_>) -> Option<InstantMetrics> {
         let d = self.derived.as_ref()?;
@@ -657,23 +660,10 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 impl GuidanceLaw for J2Distance {
     type State = ();
     type Parameters = J2DistanceParameters;
+    crate::capabilities!(Centralised, Reports, Diagnostics);
 
     fn name(&self) -> &'static str {
         "j2-distance"
-    }
-
-    fn headlines(&self) -> &'static [Headline] {
-        const HEADLINES: &[Headline] = &[
-            Headline::new("max_abs_c1_m", "max abs C1", "m", Better::Lower),
-            Headline::new("max_abs_c4_m", "max abs C4", "m", Better::Lower),
-            Headline::new(
-                "min_connectable_time_h",
-                "min connectable time",
-                "h",
-                Better::Higher,
-            ),
-        ];
-        HEADLINES
     }
 
     fn initialise(&mut self, swarm: &SwarmView<'_>, _states: &mut [()]) -> Result<(), LawError> {
@@ -682,6 +672,72 @@ impl GuidanceLaw for J2Distance {
         Ok(())
     }
 
+    fn command(
+        &self,
+        satellite: &SatelliteView<'_>,
+        _state: &(),
+        _context: &LawContext,
+    ) -> Vector3<f64> {
+        let u = self.raw_command(satellite);
+        // Norm saturation ‖f‖ ≤ f̄ (method page §7.7): u ← u min(1, f̄/(m‖u‖)).
+        let limit = self.parameters.max_force_n / satellite.mass_kg();
+        let norm = u.norm();
+        if norm > limit {
+            u * (limit / norm)
+        } else {
+            u
+        }
+    }
+
+    /// The fastest linear closed-loop rate of Eq. 15/16 \[1/s\] (independent of mass: the law commands
+    /// accelerations). Per Laplacian eigenvalue λ (method page §3.4, §7.3): the C₁ loop decays at k_A λ/2, the
+    /// C₄ loop at k_A γ_A γ_B² λ/2 (main; k_A γ_A λ/2 for opp) and the C₅ loop at k_z λ. The distance
+    /// loop near r_xyd is slower (about k_B γ_B² λ · 2r_xyd/(r_xyd − r̲) · c₋²/(4k₁²) ≈ 0.023 γ_B² λ with the
+    /// defaults). γ_B is taken at its cap γ_B,max (1 for the §4.1 preset; the theorem design sits there while λ₂ is small, the
+    /// first 1–2 h of the §4.2 runs). λ_max is known only after a grouping, which comes after this
+    /// check, so it is **estimated**, not bounded: λ_max ≤ 2Δ with Δ = 6, the mean degree of a planar
+    /// triangulation (an irregular DT can exceed it; our 100-satellite runs saw λ_max 9.2–13.3, i.e.
+    /// up to 11 % above the estimate). With the defaults this is 0.9 1/s: the 1 s zero-order hold of the
+    /// `ts-*` scenarios runs at T·k ≈ 0.9–1.0 during the capped transient, at the edge of the engine's
+    /// accuracy margin and well inside stability (T·k < 2).
+    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
+        let p = &self.parameters;
+        let lambda_max = 12.0;
+        let gamma_b = match p.gain_design {
+            GainDesign::Theorem => p.gamma_b_max,
+            GainDesign::Preset => 1.0,
+        };
+        let c4_stiffness = match p.variant {
+            Variant::Main => p.gamma_a * gamma_b * gamma_b,
+            Variant::Opp => p.gamma_a,
+        };
+        let in_plane = 0.5 * p.gain_a_per_s * c4_stiffness.max(1.0);
+        Some(in_plane.max(p.gain_z_per_s) * lambda_max)
+    }
+
+    fn set_parameters(&mut self, parameters: &J2DistanceParameters) -> Result<(), LawError> {
+        check(parameters)?;
+        self.parameters = parameters.clone();
+        if let Some(d) = &mut self.derived {
+            let model = d.model;
+            let plane = SwarmPlane {
+                theta_p_rad: self.parameters.plane_theta_p_deg.to_radians(),
+                theta_zxy_rad: self.parameters.plane_theta_zxy_deg.to_radians(),
+            };
+            *d = Derived {
+                model,
+                plane,
+                target_amplitude_m: plane
+                    .target_amplitude_m(self.parameters.average_distance_m, model.model().s_j2()),
+                normalised: plane.normalised_frame(model.c_plus(), model.c_minus()),
+            };
+            check_target_amplitude(d, &self.parameters)?;
+        }
+        Ok(())
+    }
+}
+
+impl Centralised for J2Distance {
     fn centralised_due(&self, time_s: f64) -> bool {
         time_s >= self.next_grouping_s - 1e-9
     }
@@ -821,56 +877,98 @@ impl GuidanceLaw for J2Distance {
         self.next_grouping_s = time_s + self.grouping_period_s(time_s);
         Ok(())
     }
+}
 
-    fn command(
-        &self,
-        satellite: &SatelliteView<'_>,
-        _state: &(),
-        _context: &LawContext,
-    ) -> Vector3<f64> {
-        let u = self.raw_command(satellite);
-        // Norm saturation ‖f‖ ≤ f̄ (method page §7.7): u ← u min(1, f̄/(m‖u‖)).
-        let limit = self.parameters.max_force_n / satellite.mass_kg();
-        let norm = u.norm();
-        if norm > limit {
-            u * (limit / norm)
-        } else {
-            u
-        }
+/// The `j2-distance` law's results (`summary.json` `law`), relative to the LVLH origin (the reference
+/// satellite S/C_ref); non-finite values are null.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct J2DistanceResults {
+    /// max |C₁| over live satellites \[m\].
+    pub max_abs_c1_m: Option<f64>,
+    /// max |C₄| over live satellites \[m\].
+    pub max_abs_c4_m: Option<f64>,
+    /// min T̂_conn over live satellites \[h\].
+    pub min_connectable_time_h: Option<f64>,
+    /// Range of the measured plane angle θ_p over satellites with r_xy > 0.05 m \[deg\].
+    pub plane_theta_p_deg_range: [Option<f64>; 2],
+    /// Range of the measured plane angle θ_zxy over satellites with r_xy > 0.05 m \[deg\].
+    pub plane_theta_zxy_deg_range: [Option<f64>; 2],
+    /// Percentiles 5, 50 and 95 of r_xy/r_xyd over the edges.
+    pub edge_ratio_p5_p50_p95: [Option<f64>; 3],
+    /// Fraction of the live satellites saturated now.
+    pub saturation_fraction: Option<f64>,
+    /// Number of edges of the current grouping.
+    pub edges: usize,
+    /// The edges of the current grouping (pairs of ids).
+    pub edge_list: Vec<(usize, usize)>,
+    /// The target amplitude of the plane \[m\].
+    pub target_amplitude_m: Option<f64>,
+    /// Grouping statistics.
+    pub grouping: GroupingStats,
+    /// The current gains.
+    pub gains: Gains,
+}
+
+impl Reports<()> for J2Distance {
+    /// `None` before the law has derived its constants (no results are written).
+    type Results = Option<J2DistanceResults>;
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new("max_abs_c1_m", "max abs C1", "m", Better::Lower),
+            Headline::new("max_abs_c4_m", "max abs C4", "m", Better::Lower),
+            Headline::new(
+                "min_connectable_time_h",
+                "min connectable time",
+                "h",
+                Better::Higher,
+            ),
+        ];
+        HEADLINES
     }
 
-    /// The fastest linear closed-loop rate of Eq. 15/16 \[1/s\] (independent of mass: the law commands
-    /// accelerations). Per Laplacian eigenvalue λ (method page §3.4, §7.3): the C₁ loop decays at k_A λ/2, the
-    /// C₄ loop at k_A γ_A γ_B² λ/2 (main; k_A γ_A λ/2 for opp) and the C₅ loop at k_z λ. The distance
-    /// loop near r_xyd is slower (about k_B γ_B² λ · 2r_xyd/(r_xyd − r̲) · c₋²/(4k₁²) ≈ 0.023 γ_B² λ with the
-    /// defaults). γ_B is taken at its cap γ_B,max (1 for the §4.1 preset; the theorem design sits there while λ₂ is small, the
-    /// first 1–2 h of the §4.2 runs). λ_max is known only after a grouping, which comes after this
-    /// check, so it is **estimated**, not bounded: λ_max ≤ 2Δ with Δ = 6, the mean degree of a planar
-    /// triangulation (an irregular DT can exceed it; our 100-satellite runs saw λ_max 9.2–13.3, i.e.
-    /// up to 11 % above the estimate). With the defaults this is 0.9 1/s: the 1 s zero-order hold of the
-    /// `ts-*` scenarios runs at T·k ≈ 0.9–1.0 during the capped transient, at the edge of the engine's
-    /// accuracy margin and well inside stability (T·k < 2).
-    fn fastest_rate_per_s(&self, _mass_kg: f64) -> Option<f64> {
-        let p = &self.parameters;
-        let lambda_max = 12.0;
-        let gamma_b = match p.gain_design {
-            GainDesign::Theorem => p.gamma_b_max,
-            GainDesign::Preset => 1.0,
+    /// Relative to the LVLH origin (the reference satellite S/C_ref): max |C₁|, max |C₄| \[m\], measured
+    /// plane angles over satellites with r_xy > 0.05 m \[deg\], min T̂_conn \[h\]; per edge r_xy/r_xyd
+    /// percentiles; the fraction of live satellites saturated now; the edge list; grouping statistics
+    /// and gains.
+    fn results(&self, swarm: &SwarmView<'_>, _states: &[()]) -> Option<J2DistanceResults> {
+        let (Some(d), Some(m)) = (&self.derived, self.instant_metrics(swarm)) else {
+            return None;
         };
-        let c4_stiffness = match p.variant {
-            Variant::Main => p.gamma_a * gamma_b * gamma_b,
-            Variant::Opp => p.gamma_a,
-        };
-        let in_plane = 0.5 * p.gain_a_per_s * c4_stiffness.max(1.0);
-        Some(in_plane.max(p.gain_z_per_s) * lambda_max)
+        let InstantMetrics {
+            max_c1,
+            max_c4,
+            min_t,
+            theta_p: (tp_lo, tp_hi),
+            theta_zxy: (tz_lo, tz_hi),
+            ratio_percentiles: [r5, r50, r95],
+            saturated_fraction,
+        } = m;
+        let finite = |v: f64| v.is_finite().then_some(v);
+        Some(J2DistanceResults {
+            max_abs_c1_m: finite(max_c1),
+            max_abs_c4_m: finite(max_c4),
+            min_connectable_time_h: finite(min_t / 3600.0),
+            plane_theta_p_deg_range: [finite(tp_lo), finite(tp_hi)],
+            plane_theta_zxy_deg_range: [finite(tz_lo), finite(tz_hi)],
+            edge_ratio_p5_p50_p95: [finite(r5), finite(r50), finite(r95)],
+            saturation_fraction: finite(saturated_fraction),
+            edges: self.network.edges.len(),
+            edge_list: self.network.edges.clone(),
+            target_amplitude_m: finite(d.target_amplitude_m),
+            grouping: self.stats.clone(),
+            gains: self.network.gains,
+        })
     }
+}
 
+impl Diagnostics<()> for J2Distance {
     fn metric_names(&self) -> &'static [&'static str] {
         METRIC_NAMES
     }
 
     /// The time series of the quantities `summary.json` reports at the end (same definitions, see
-    /// [`GuidanceLaw::results`]), plus the current edge count, component count and the cumulative
+    /// [`Reports::results`]), plus the current edge count, component count and the cumulative
     /// edge-set changes. Angles are NaN while no satellite has r_xy > 0.05 m; T̂_conn is in hours
     /// (`inf` when no satellite drifts).
     fn record_metrics(&mut self, swarm: &SwarmView<'_>, _states: &[()], values: &mut [f64]) {
@@ -891,80 +989,6 @@ impl GuidanceLaw for J2Distance {
         values[11] = self.network.edges.len() as f64;
         values[12] = self.stats.components as f64;
         values[13] = self.stats.edge_changes as f64;
-    }
-
-    fn set_parameters(&mut self, parameters: &J2DistanceParameters) -> Result<(), LawError> {
-        check(parameters)?;
-        self.parameters = parameters.clone();
-        if let Some(d) = &mut self.derived {
-            let model = d.model;
-            let plane = SwarmPlane {
-                theta_p_rad: self.parameters.plane_theta_p_deg.to_radians(),
-                theta_zxy_rad: self.parameters.plane_theta_zxy_deg.to_radians(),
-            };
-            *d = Derived {
-                model,
-                plane,
-                target_amplitude_m: plane
-                    .target_amplitude_m(self.parameters.average_distance_m, model.model().s_j2()),
-                normalised: plane.normalised_frame(model.c_plus(), model.c_minus()),
-            };
-            check_target_amplitude(d, &self.parameters)?;
-        }
-        Ok(())
-    }
-
-    /// Relative to the LVLH origin (the reference satellite S/C_ref): max |C₁|, max |C₄| \[m\], measured
-    /// plane angles over satellites with r_xy > 0.05 m \[deg\], min T̂_conn \[h\]; per edge r_xy/r_xyd
-    /// percentiles; the fraction of live satellites saturated now; the edge list; grouping statistics
-    /// and gains.
-    fn results(
-        &self,
-        swarm: &SwarmView<'_>,
-        _states: &[()],
-    ) -> BTreeMap<String, serde_json::Value> {
-        let mut out = BTreeMap::new();
-        let (Some(d), Some(m)) = (&self.derived, self.instant_metrics(swarm)) else {
-            return out;
-        };
-        let InstantMetrics {
-            max_c1,
-            max_c4,
-            min_t,
-            theta_p: (tp_lo, tp_hi),
-            theta_zxy: (tz_lo, tz_hi),
-            ratio_percentiles: [r5, r50, r95],
-            saturated_fraction,
-        } = m;
-        let json = |v: f64| serde_json::json!(if v.is_finite() { Some(v) } else { None });
-        out.insert("max_abs_c1_m".into(), json(max_c1));
-        out.insert("max_abs_c4_m".into(), json(max_c4));
-        out.insert("min_connectable_time_h".into(), json(min_t / 3600.0));
-        out.insert(
-            "plane_theta_p_deg_range".into(),
-            serde_json::json!([json(tp_lo), json(tp_hi)]),
-        );
-        out.insert(
-            "plane_theta_zxy_deg_range".into(),
-            serde_json::json!([json(tz_lo), json(tz_hi)]),
-        );
-        out.insert(
-            "edge_ratio_p5_p50_p95".into(),
-            serde_json::json!([json(r5), json(r50), json(r95)]),
-        );
-        out.insert("saturation_fraction".into(), json(saturated_fraction));
-        out.insert("edges".into(), serde_json::json!(self.network.edges.len()));
-        out.insert("edge_list".into(), serde_json::json!(self.network.edges));
-        out.insert("target_amplitude_m".into(), json(d.target_amplitude_m));
-        out.insert(
-            "grouping".into(),
-            serde_json::to_value(&self.stats).expect("plain data serialises"),
-        );
-        out.insert(
-            "gains".into(),
-            serde_json::to_value(self.network.gains).expect("plain data serialises"),
-        );
-        out
     }
 }
 
@@ -1025,7 +1049,7 @@ mod tests {
     /// Groups, once, a swarm laid out by hand in the Ŝ plane (positions r = (C^{Ŝ/O})⁻¹ (0, y, z), at
     /// rest, 20 m sensing range): two 2×3 lattices of spacing 0.5 m, 3 m apart. Returns the edges and
     /// the grouping results.
-    fn group_two_clusters(preserve_connectivity: bool) -> (Vec<(usize, usize)>, serde_json::Value) {
+    fn group_two_clusters(preserve_connectivity: bool) -> (Vec<(usize, usize)>, GroupingStats) {
         use crate::grid::NeighbourGrid;
         use crate::swarm::{EnvironmentView, SharedInfo};
         let earth = crate::orbit::EarthModel::WGS84_EGM96;
@@ -1085,8 +1109,8 @@ mod tests {
         );
         law.initialise(&view, &mut []).unwrap();
         law.centralised_update(&view).unwrap();
-        let results = law.results(&view, &[]);
-        (law.edges().to_vec(), results["grouping"].clone())
+        let results = law.results(&view, &[]).expect("derived at initialise");
+        (law.edges().to_vec(), results.grouping)
     }
 
     #[test]
@@ -1097,17 +1121,17 @@ mod tests {
         let (paper, stats) = group_two_clusters(false);
         assert!(!paper.contains(&(5, 6)));
         assert!(paper.iter().all(|&(a, b)| (a < 6) == (b < 6)), "{paper:?}");
-        assert_eq!(stats["components"], 2);
-        assert_eq!(stats["connectivity_repairs"], 0);
+        assert_eq!(stats.components, 2);
+        assert_eq!(stats.connectivity_repairs, 0);
         let (kept, stats) = group_two_clusters(true);
         let mut expected = paper.clone();
         expected.push((5, 6));
         expected.sort_unstable();
         assert_eq!(kept, expected);
-        assert_eq!(stats["components"], 1);
-        assert_eq!(stats["always_connected"], true);
-        assert_eq!(stats["connectivity_repairs"], 1);
-        assert_eq!(stats["connectivity_repair_edges"], 1);
+        assert_eq!(stats.components, 1);
+        assert!(stats.always_connected);
+        assert_eq!(stats.connectivity_repairs, 1);
+        assert_eq!(stats.connectivity_repair_edges, 1);
     }
 
     #[test]

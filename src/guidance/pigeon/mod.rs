@@ -32,14 +32,12 @@ pub mod potentials;
 pub mod switching;
 pub mod thrust;
 
-use std::collections::BTreeMap;
-
 use nalgebra::{Vector2, Vector3};
-use serde_json::{json, Value};
+use serde::Serialize;
 
 use crate::swarm::{
-    Better, Broadcast, GuidanceLaw, Headline, LawContext, LawError, SatelliteView, SwarmFacts,
-    SwarmView,
+    Better, Broadcast, Diagnostics, GuidanceLaw, Headline, LawContext, LawError, Reports,
+    SatelliteView, SwarmFacts, SwarmView,
 };
 
 pub use parameters::PigeonParameters;
@@ -376,27 +374,10 @@ impl Pigeon {
 impl GuidanceLaw for Pigeon {
     type State = PigeonState;
     type Parameters = PigeonParameters;
+    crate::capabilities!(Reports, Diagnostics);
 
     fn name(&self) -> &'static str {
         "pigeon"
-    }
-
-    fn headlines(&self) -> &'static [Headline] {
-        const HEADLINES: &[Headline] = &[
-            Headline::new(
-                "pigeon_order_parameter",
-                "order parameter",
-                "-",
-                Better::Higher,
-            ),
-            Headline::new(
-                "pigeon_stabilisation_time_s",
-                "stabilisation time",
-                "s",
-                Better::Lower,
-            ),
-        ];
-        HEADLINES
     }
 
     fn initialise(
@@ -566,7 +547,85 @@ impl GuidanceLaw for Pigeon {
                 .max(p.target_velocity_damping_per_s),
         )
     }
+}
 
+/// The `pigeon` law's results (`summary.json` `law`), over the live satellites in the pigeon plane.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PigeonResults {
+    /// Final global order parameter V_a.
+    pub pigeon_order_parameter: f64,
+    /// Final mean pair distance \[m\] (null without a pair).
+    pub pigeon_mean_distance_m: Option<f64>,
+    /// Final mean distance to the target \[m\] (null without a live satellite).
+    pub pigeon_mean_target_distance_m: Option<f64>,
+    /// Pattern switches, in total.
+    pub pigeon_switches: u64,
+    /// Pattern switches of each satellite, by id.
+    pub pigeon_switches_per_satellite: Vec<u64>,
+    /// Barrier violations in total (separation pairs + obstacle clearances, counted per tick).
+    pub pigeon_barrier_violations: u64,
+    /// Separation-barrier violations (pairs, counted per tick).
+    pub pigeon_separation_violations: u64,
+    /// Obstacle-clearance violations (counted per tick).
+    pub pigeon_clearance_violations: u64,
+    /// The dominant satellites S_d (ids, sorted).
+    pub pigeon_dominant: Vec<usize>,
+    /// See [`Pigeon::stabilisation_time_s`] \[s\] (resolution: the recording interval).
+    pub pigeon_stabilisation_time_s: Option<f64>,
+    /// The first recording with the mean target distance below R_L^2 \[s\] (null if never;
+    /// resolution: the recording interval).
+    pub pigeon_time_to_target_zone_s: Option<f64>,
+}
+
+impl Reports<PigeonState> for Pigeon {
+    type Results = PigeonResults;
+
+    fn headlines(&self) -> &'static [Headline] {
+        const HEADLINES: &[Headline] = &[
+            Headline::new(
+                "pigeon_order_parameter",
+                "order parameter",
+                "-",
+                Better::Higher,
+            ),
+            Headline::new(
+                "pigeon_stabilisation_time_s",
+                "stabilisation time",
+                "s",
+                Better::Lower,
+            ),
+        ];
+        HEADLINES
+    }
+
+    /// `pigeon_order_parameter`, `pigeon_mean_distance_m`, `pigeon_mean_target_distance_m` (final),
+    /// `pigeon_switches` (total) and `pigeon_switches_per_satellite`, `pigeon_barrier_violations` (total)
+    /// with `pigeon_separation_violations` and `pigeon_clearance_violations`, `pigeon_dominant`,
+    /// `pigeon_stabilisation_time_s` (see [`Pigeon::stabilisation_time_s`]) and
+    /// `pigeon_time_to_target_zone_s` (first recording with the mean target distance below R_L^2; null if
+    /// never). Both have the recording interval as their resolution.
+    fn results(&self, swarm: &SwarmView<'_>, states: &[PigeonState]) -> PigeonResults {
+        let (order, mean_distance, mean_target) = self.swarm_measures(swarm);
+        let finite = |v: f64| v.is_finite().then_some(v);
+        let separation: u64 = states.iter().map(|s| s.separation_violations).sum();
+        let clearance: u64 = states.iter().map(|s| s.clearance_violations).sum();
+        PigeonResults {
+            pigeon_order_parameter: order,
+            pigeon_mean_distance_m: finite(mean_distance),
+            pigeon_mean_target_distance_m: finite(mean_target),
+            pigeon_switches: states.iter().map(|s| s.switches).sum(),
+            pigeon_switches_per_satellite: states.iter().map(|s| s.switches).collect(),
+            pigeon_barrier_violations: separation + clearance,
+            pigeon_separation_violations: separation,
+            pigeon_clearance_violations: clearance,
+            pigeon_dominant: self.dominant.clone(),
+            pigeon_stabilisation_time_s: self.stabilisation_time_s(),
+            pigeon_time_to_target_zone_s: self.target_zone_reached_s,
+        }
+    }
+}
+
+impl Diagnostics<PigeonState> for Pigeon {
     fn output_names(&self) -> &'static [&'static str] {
         OUTPUT_NAMES
     }
@@ -609,53 +668,6 @@ impl GuidanceLaw for Pigeon {
             .iter()
             .map(|s| s.separation_violations + s.clearance_violations)
             .sum::<u64>() as f64;
-    }
-
-    /// `pigeon_order_parameter`, `pigeon_mean_distance_m`, `pigeon_mean_target_distance_m` (final),
-    /// `pigeon_switches` (total) and `pigeon_switches_per_satellite`, `pigeon_barrier_violations` (total)
-    /// with `pigeon_separation_violations` and `pigeon_clearance_violations`, `pigeon_dominant`,
-    /// `pigeon_stabilisation_time_s` (see [`Pigeon::stabilisation_time_s`]) and
-    /// `pigeon_time_to_target_zone_s` (first recording with the mean target distance below R_L^2; null if
-    /// never). Both have the recording interval as their resolution.
-    fn results(&self, swarm: &SwarmView<'_>, states: &[PigeonState]) -> BTreeMap<String, Value> {
-        let (order, mean_distance, mean_target) = self.swarm_measures(swarm);
-        let finite = |v: f64| v.is_finite().then_some(v);
-        let separation: u64 = states.iter().map(|s| s.separation_violations).sum();
-        let clearance: u64 = states.iter().map(|s| s.clearance_violations).sum();
-        let mut out = BTreeMap::new();
-        out.insert("pigeon_order_parameter".into(), json!(order));
-        out.insert(
-            "pigeon_mean_distance_m".into(),
-            json!(finite(mean_distance)),
-        );
-        out.insert(
-            "pigeon_mean_target_distance_m".into(),
-            json!(finite(mean_target)),
-        );
-        out.insert(
-            "pigeon_switches".into(),
-            json!(states.iter().map(|s| s.switches).sum::<u64>()),
-        );
-        out.insert(
-            "pigeon_switches_per_satellite".into(),
-            json!(states.iter().map(|s| s.switches).collect::<Vec<_>>()),
-        );
-        out.insert(
-            "pigeon_barrier_violations".into(),
-            json!(separation + clearance),
-        );
-        out.insert("pigeon_separation_violations".into(), json!(separation));
-        out.insert("pigeon_clearance_violations".into(), json!(clearance));
-        out.insert("pigeon_dominant".into(), json!(self.dominant));
-        out.insert(
-            "pigeon_stabilisation_time_s".into(),
-            json!(self.stabilisation_time_s()),
-        );
-        out.insert(
-            "pigeon_time_to_target_zone_s".into(),
-            json!(self.target_zone_reached_s),
-        );
-        out
     }
 }
 

@@ -1,7 +1,9 @@
 //! A law as the engine holds it: [`Law`] wraps any [`GuidanceLaw`] together with the per-satellite states
 //! of every satellite (two buffers: the states of the previous tick, read by every update, and the
-//! states being written), behind one object-safe interface. [`LawParameters`] carries a law's typed
-//! parameter set through the event timeline.
+//! states being written), behind one object-safe interface: the only type-erased layer. The object-safe
+//! trait and the [`Law`] methods forwarding to it are generated from one list (`erased_law!`); the law's
+//! capabilities (module `capability`) reach the engine through the law's `as_*` accessors, each
+//! forwarded once. [`LawParameters`] carries a law's typed parameter set through the event timeline.
 //!
 //! The state update evaluates the satellites in the sensing grid's storage (cell) order, so that
 //! consecutive updates query overlapping neighbourhoods and find their data in cache, and then places
@@ -24,6 +26,8 @@ use super::{
     Broadcast, CommandKind, GuidanceLaw, Headline, LawContext, LawError, Neighbour, OwnSample,
     SatelliteView, SwarmFacts, SwarmView,
 };
+#[cfg(doc)]
+use super::{Centralised, CommandsDrag, Diagnostics, Reports, TargetFormation};
 use crate::swarm::storage_order::{permute, Placement};
 use crate::swarm::{Actuator, DragCommand, CHUNK};
 
@@ -88,56 +92,122 @@ impl std::fmt::Debug for LawParameters {
     }
 }
 
-/// The object-safe face of a law with its states (implemented once, for [`Stateful`]).
-trait ErasedLaw: Send + Sync {
-    fn name(&self) -> &'static str;
-    fn is_stateful(&self) -> bool;
-    fn command_kind(&self) -> CommandKind;
-    fn commands_drag(&self) -> bool;
-    fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64>;
-    fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError>;
-    fn output_names(&self) -> &'static [&'static str];
-    fn metric_names(&self) -> &'static [&'static str];
-    fn headlines(&self) -> &'static [Headline];
-    fn initialise(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        placement: Option<Placement<'_>>,
-    ) -> Result<(), LawError>;
-    fn update_states(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        active: &[bool],
-        context: &(dyn Fn(usize) -> LawContext + Sync),
-        in_cell_order: bool,
-    );
-    fn update_states_and_commands(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        tick: &dyn TickEvaluation,
-        commands_by_slot: &mut [Vector3<f64>],
-    ) -> bool;
-    fn command(&self, satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
-    fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool;
-    fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError>;
-    fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>);
-    fn record_metrics(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        values: &mut [f64],
-        placement: Option<Placement<'_>>,
-    );
-    fn centralised_due(&self, time_s: f64) -> bool;
-    fn centralised_update(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError>;
-    fn results(
-        &self,
-        swarm: &SwarmView<'_>,
-        placement: Option<Placement<'_>>,
-    ) -> BTreeMap<String, serde_json::Value>;
-    fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>);
-    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>>;
-    fn as_any(&self) -> &dyn Any;
-    fn states_as_any(&self) -> &dyn Any;
+/// Writes the object-safe trait `ErasedLaw` (the face of a law with its states, implemented once, for
+/// [`Stateful`]) and, for each of its methods, the [`Law`] method of the same name that forwards to it,
+/// from one list: `shared` methods take `&self`, `exclusive` ones `&mut self`.
+macro_rules! erased_law {
+    (
+        shared { $($(#[$s_doc:meta])* $s_vis:vis fn $s_name:ident($($s_arg:ident: $s_ty:ty),* $(,)?) $(-> $s_ret:ty)?;)* }
+        exclusive { $($(#[$x_doc:meta])* $x_vis:vis fn $x_name:ident($($x_arg:ident: $x_ty:ty),* $(,)?) $(-> $x_ret:ty)?;)* }
+    ) => {
+        trait ErasedLaw: Send + Sync {
+            $(fn $s_name(&self, $($s_arg: $s_ty),*) $(-> $s_ret)?;)*
+            $(fn $x_name(&mut self, $($x_arg: $x_ty),*) $(-> $x_ret)?;)*
+        }
+
+        impl Law {
+            $($(#[$s_doc])* $s_vis fn $s_name(&self, $($s_arg: $s_ty),*) $(-> $s_ret)? {
+                self.0.$s_name($($s_arg),*)
+            })*
+            $($(#[$x_doc])* $x_vis fn $x_name(&mut self, $($x_arg: $x_ty),*) $(-> $x_ret)? {
+                self.0.$x_name($($x_arg),*)
+            })*
+        }
+    };
+}
+
+erased_law! {
+    shared {
+        /// Registry name of the law.
+        pub fn name() -> &'static str;
+        /// Whether the law keeps a per-satellite state (a zero-sized state means it does not, and the
+        /// engine skips its update).
+        pub fn is_stateful() -> bool;
+        /// What the law commands.
+        pub fn command_kind() -> CommandKind;
+        /// See [`GuidanceLaw::check_swarm`].
+        pub fn check_swarm(swarm: &SwarmFacts) -> Result<(), LawError>;
+        /// See [`GuidanceLaw::fastest_rate_per_s`] \[1/s\].
+        pub fn fastest_rate_per_s(mass_kg: f64) -> Option<f64>;
+        /// Whether the law commands the drag area (it is a [`CommandsDrag`] law).
+        pub fn commands_drag() -> bool;
+        /// Every satellite's drag command from its current state ([`CommandsDrag::drag_command`]), by
+        /// storage index, into `out`; `false` (and `out` untouched) for a law that does not command
+        /// drag.
+        pub(crate) fn drag_commands(out: &mut [Option<DragCommand>]) -> bool;
+        /// Names of the per-satellite outputs ([`Diagnostics::output_names`]).
+        pub fn output_names() -> &'static [&'static str];
+        /// Writes every satellite's per-satellite outputs into `values` (satellite-major: satellite
+        /// i's outputs at `i * k .. (i + 1) * k`, k = the number of output names), the states being
+        /// stored in the storage order `placement`.
+        pub(crate) fn write_outputs(values: &mut [f64], placement: Option<Placement<'_>>);
+        /// Names of the law's metrics ([`Diagnostics::metric_names`]).
+        pub fn metric_names() -> &'static [&'static str];
+        /// The law's headline outcomes ([`Reports::headlines`]).
+        pub fn headlines() -> &'static [Headline];
+        /// The law's results ([`Reports::results`], serialised), the states being stored in the
+        /// storage order `placement`; empty for a law without them.
+        pub(crate) fn results(
+            swarm: &SwarmView<'_>,
+            placement: Option<Placement<'_>>,
+        ) -> BTreeMap<String, serde_json::Value>;
+        /// The formation the law steers to, Hill frame relative to the LVLH origin \[m\]
+        /// ([`TargetFormation::target_formation_hill_m`]; `None` when the law has no fixed target
+        /// points).
+        pub fn target_formation_hill_m() -> Option<Vec<Vector3<f64>>>;
+        /// The command of the satellite `satellite` from its current state.
+        pub(crate) fn command(satellite: &SatelliteView<'_>, context: &LawContext) -> Vector3<f64>;
+        /// The law itself, as `Any` (for [`Law::downcast_ref`]).
+        fn law_as_any() -> &dyn Any;
+        /// The states after the last update (a `Vec` of the law's state type), as `Any`.
+        fn states_as_any() -> &dyn Any;
+    }
+    exclusive {
+        /// Creates every satellite's state and initialises the law with the whole swarm (`swarm` by id),
+        /// the states then being stored in the storage order `placement`.
+        pub(crate) fn initialise(
+            swarm: &SwarmView<'_>,
+            placement: Option<Placement<'_>>,
+        ) -> Result<(), LawError>;
+        /// Moves the states to the storage order in which new index `k` holds old index `moves[k]`.
+        pub(crate) fn permute_states(moves: &[u32], visited: &mut Vec<bool>);
+        /// Updates every live satellite's state (removed satellites keep theirs), in the sensing grid's
+        /// cell order if `in_cell_order` (see [`Law::update_states`]), else in storage order.
+        fn update_states_in(
+            swarm: &SwarmView<'_>,
+            active: &[bool],
+            context: &(dyn Fn(usize) -> LawContext + Sync),
+            in_cell_order: bool,
+        );
+        /// One tick's state update and command evaluation in one pass over the satellites in the
+        /// sensing grid's cell order: each live satellite's neighbour walk is collected once and
+        /// replayed to its state update and then to its command (from the new state), so the states
+        /// and the law's commands (before the actuator, which the caller applies; written by grid slot
+        /// into `commands_by_slot`; zero for a removed satellite) are bitwise those of
+        /// [`Self::update_states`] followed by the command evaluation, on any thread count.
+        /// Returns `false`, doing nothing, when the grid does not hold every satellite (left empty by a
+        /// non-finite navigation position): the caller then runs the two passes.
+        pub(crate) fn update_states_and_commands(
+            swarm: &SwarmView<'_>,
+            tick: &dyn TickEvaluation,
+            commands_by_slot: &mut [Vector3<f64>],
+        ) -> bool;
+        /// Replaces the law's parameters ([`GuidanceLaw::set_parameters`]; refused when they are not of
+        /// the law's parameter type).
+        pub(crate) fn set_parameters(parameters: &LawParameters) -> Result<(), LawError>;
+        /// Records the law's metrics ([`Diagnostics::record_metrics`]) into `values`, the states being
+        /// stored in the storage order `placement`.
+        pub(crate) fn record_metrics(
+            swarm: &SwarmView<'_>,
+            values: &mut [f64],
+            placement: Option<Placement<'_>>,
+        );
+        /// Whether the law's centralised step is due at `time_s` \[s\]
+        /// ([`Centralised::centralised_due`]; never for a law without one).
+        pub(crate) fn centralised_due(time_s: f64) -> bool;
+        /// The law's centralised step ([`Centralised::centralised_update`]).
+        pub(crate) fn centralised_update(swarm: &SwarmView<'_>) -> Result<(), LawError>;
+    }
 }
 
 /// A law and its per-satellite states.
@@ -172,7 +242,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     }
 
     fn commands_drag(&self) -> bool {
-        self.law.commands_drag()
+        self.law.as_commands_drag().is_some()
     }
 
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {
@@ -184,15 +254,15 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     }
 
     fn output_names(&self) -> &'static [&'static str] {
-        self.law.output_names()
+        self.law.as_diagnostics().map_or(&[], |d| d.output_names())
     }
 
     fn metric_names(&self) -> &'static [&'static str] {
-        self.law.metric_names()
+        self.law.as_diagnostics().map_or(&[], |d| d.metric_names())
     }
 
     fn headlines(&self) -> &'static [Headline] {
-        self.law.headlines()
+        self.law.as_reports().map_or(&[], |r| r.report_headlines())
     }
 
     fn initialise(
@@ -211,7 +281,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         result
     }
 
-    fn update_states(
+    fn update_states_in(
         &mut self,
         swarm: &SwarmView<'_>,
         active: &[bool],
@@ -322,13 +392,16 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     }
 
     fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool {
-        if !self.law.commands_drag() || out.len() != self.current.len() {
+        let Some(drag) = self.law.as_commands_drag() else {
+            return false;
+        };
+        if out.len() != self.current.len() {
             return false;
         }
         out.par_iter_mut()
             .with_min_len(CHUNK)
             .zip(&self.current)
-            .for_each(|(o, state)| *o = self.law.drag_command(state));
+            .for_each(|(o, state)| *o = drag.drag_command(state));
         true
     }
 
@@ -345,7 +418,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     }
 
     fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>) {
-        let k = self.law.output_names().len();
+        let Some(diagnostics) = self.law.as_diagnostics() else {
+            return;
+        };
+        let k = diagnostics.output_names().len();
         if k == 0 {
             return;
         }
@@ -353,7 +429,7 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
             .iter()
             .zip(values.chunks_mut(k))
         {
-            self.law.write_outputs(state, row);
+            diagnostics.write_outputs(state, row);
         }
     }
 
@@ -363,16 +439,22 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         values: &mut [f64],
         placement: Option<Placement<'_>>,
     ) {
-        let states = states_by_id(&self.current, placement);
-        self.law.record_metrics(swarm, &states, values);
+        if let Some(diagnostics) = self.law.as_diagnostics_mut() {
+            let states = states_by_id(&self.current, placement);
+            diagnostics.record_metrics(swarm, &states, values);
+        }
     }
 
-    fn centralised_due(&self, time_s: f64) -> bool {
-        self.law.centralised_due(time_s)
+    fn centralised_due(&mut self, time_s: f64) -> bool {
+        self.law
+            .as_centralised()
+            .is_some_and(|c| c.centralised_due(time_s))
     }
 
     fn centralised_update(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
-        self.law.centralised_update(swarm)
+        self.law
+            .as_centralised()
+            .map_or(Ok(()), |c| c.centralised_update(swarm))
     }
 
     fn results(
@@ -380,8 +462,9 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         swarm: &SwarmView<'_>,
         placement: Option<Placement<'_>>,
     ) -> BTreeMap<String, serde_json::Value> {
-        self.law
-            .results(swarm, &states_by_id(&self.current, placement))
+        self.law.as_reports().map_or_else(BTreeMap::new, |r| {
+            r.report_json(swarm, &states_by_id(&self.current, placement))
+        })
     }
 
     fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
@@ -390,10 +473,12 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     }
 
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
-        self.law.target_formation_hill_m()
+        self.law
+            .as_target_formation()
+            .and_then(|t| t.target_formation_hill_m())
     }
 
-    fn as_any(&self) -> &dyn Any {
+    fn law_as_any(&self) -> &dyn Any {
         &self.law
     }
 
@@ -415,75 +500,16 @@ impl Law {
         }))
     }
 
-    /// Registry name of the law.
-    pub fn name(&self) -> &'static str {
-        self.0.name()
-    }
-
-    /// Whether the law keeps a per-satellite state (a zero-sized state means it does not, and the engine
-    /// skips its update).
-    pub fn is_stateful(&self) -> bool {
-        self.0.is_stateful()
-    }
-
-    /// What the law commands.
-    pub fn command_kind(&self) -> CommandKind {
-        self.0.command_kind()
-    }
-
-    /// Whether the law commands the drag area ([`GuidanceLaw::commands_drag`]).
-    pub fn commands_drag(&self) -> bool {
-        self.0.commands_drag()
-    }
-
-    /// Every satellite's drag command from its current state ([`GuidanceLaw::drag_command`]), by
-    /// storage index, into `out`; `false` (and `out` untouched) for a law that does not command drag.
-    pub(crate) fn drag_commands(&self, out: &mut [Option<DragCommand>]) -> bool {
-        self.0.drag_commands(out)
-    }
-
-    /// See [`GuidanceLaw::check_swarm`].
-    pub fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
-        self.0.check_swarm(swarm)
-    }
-
-    /// See [`GuidanceLaw::fastest_rate_per_s`] \[1/s\].
-    pub fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {
-        self.0.fastest_rate_per_s(mass_kg)
-    }
-
-    /// Names of the per-satellite outputs ([`GuidanceLaw::output_names`]).
-    pub fn output_names(&self) -> &'static [&'static str] {
-        self.0.output_names()
-    }
-
-    /// Names of the law's metrics ([`GuidanceLaw::metric_names`]).
-    pub fn metric_names(&self) -> &'static [&'static str] {
-        self.0.metric_names()
-    }
-
-    /// The law's headline outcomes ([`GuidanceLaw::headlines`]).
-    pub fn headlines(&self) -> &'static [Headline] {
-        self.0.headlines()
-    }
-
-    /// The formation the law steers to, Hill frame relative to the LVLH origin \[m\]
-    /// ([`GuidanceLaw::target_formation_hill_m`]; `None` when the law has no fixed target points).
-    pub fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
-        self.0.target_formation_hill_m()
-    }
-
     /// The law itself, if it is of type `L` (e.g. to read a law's own results after a run).
     pub fn downcast_ref<L: GuidanceLaw>(&self) -> Option<&L> {
-        self.0.as_any().downcast_ref::<L>()
+        self.law_as_any().downcast_ref::<L>()
     }
 
     /// Every satellite's law state after the last update, by storage index, if the law is of type `L`
     /// (empty before the law is initialised).
     #[cfg(test)]
     pub(crate) fn states<L: GuidanceLaw>(&self) -> Option<&[L::State]> {
-        self.0
-            .states_as_any()
+        self.states_as_any()
             .downcast_ref::<Vec<L::State>>()
             .map(Vec::as_slice)
     }
@@ -494,30 +520,8 @@ impl Law {
         &self,
         placement: Option<Placement<'_>>,
     ) -> Option<Vec<L::State>> {
-        let states = self.0.states_as_any().downcast_ref::<Vec<L::State>>()?;
+        let states = self.states_as_any().downcast_ref::<Vec<L::State>>()?;
         Some(states_by_id(states, placement).into_owned())
-    }
-
-    /// Writes every satellite's per-satellite outputs into `values` (satellite-major: satellite i's
-    /// outputs at `i * k .. (i + 1) * k`, k = the number of output names), the states being stored in
-    /// the storage order `placement`.
-    pub(crate) fn write_outputs(&self, values: &mut [f64], placement: Option<Placement<'_>>) {
-        self.0.write_outputs(values, placement)
-    }
-
-    /// Creates every satellite's state and initialises the law with the whole swarm (`swarm` by id),
-    /// the states then being stored in the storage order `placement`.
-    pub(crate) fn initialise(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        placement: Option<Placement<'_>>,
-    ) -> Result<(), LawError> {
-        self.0.initialise(swarm, placement)
-    }
-
-    /// Moves the states to the storage order in which new index `k` holds old index `moves[k]`.
-    pub(crate) fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
-        self.0.permute_states(moves, visited)
     }
 
     /// Updates every live satellite's state (removed satellites keep theirs), evaluating the satellites
@@ -531,7 +535,7 @@ impl Law {
         active: &[bool],
         context: &(dyn Fn(usize) -> LawContext + Sync),
     ) {
-        self.0.update_states(swarm, active, context, true)
+        self.update_states_in(swarm, active, context, true)
     }
 
     /// [`Self::update_states`] evaluating the satellites in storage order (the plain reference path).
@@ -542,62 +546,7 @@ impl Law {
         active: &[bool],
         context: &(dyn Fn(usize) -> LawContext + Sync),
     ) {
-        self.0.update_states(swarm, active, context, false)
-    }
-
-    /// One tick's state update and command evaluation in one pass over the satellites in the sensing
-    /// grid's cell order: each live satellite's neighbour walk is collected once and replayed to its
-    /// state update and then to its command (from the new state), so the states and the law's
-    /// commands (before the actuator, which the caller applies; written by grid slot into
-    /// `commands_by_slot`; zero for a removed satellite) are bitwise those of [`Self::update_states`]
-    /// followed by the command evaluation, on any thread count.
-    /// Returns `false`, doing nothing, when the grid does not hold every satellite (left empty by a
-    /// non-finite navigation position): the caller then runs the two passes.
-    pub(crate) fn update_states_and_commands(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        tick: &dyn TickEvaluation,
-        commands_by_slot: &mut [Vector3<f64>],
-    ) -> bool {
-        self.0
-            .update_states_and_commands(swarm, tick, commands_by_slot)
-    }
-
-    pub(crate) fn command(
-        &self,
-        satellite: &SatelliteView<'_>,
-        context: &LawContext,
-    ) -> Vector3<f64> {
-        self.0.command(satellite, context)
-    }
-
-    pub(crate) fn set_parameters(&mut self, parameters: &LawParameters) -> Result<(), LawError> {
-        self.0.set_parameters(parameters)
-    }
-
-    pub(crate) fn record_metrics(
-        &mut self,
-        swarm: &SwarmView<'_>,
-        values: &mut [f64],
-        placement: Option<Placement<'_>>,
-    ) {
-        self.0.record_metrics(swarm, values, placement)
-    }
-
-    pub(crate) fn centralised_due(&self, time_s: f64) -> bool {
-        self.0.centralised_due(time_s)
-    }
-
-    pub(crate) fn centralised_update(&mut self, swarm: &SwarmView<'_>) -> Result<(), LawError> {
-        self.0.centralised_update(swarm)
-    }
-
-    pub(crate) fn results(
-        &self,
-        swarm: &SwarmView<'_>,
-        placement: Option<Placement<'_>>,
-    ) -> BTreeMap<String, serde_json::Value> {
-        self.0.results(swarm, placement)
+        self.update_states_in(swarm, active, context, false)
     }
 }
 

@@ -1,4 +1,4 @@
-//! A law's headline outcomes: the few of its `summary.json` results ([`super::GuidanceLaw::results`])
+//! A law's headline outcomes: the few of its `summary.json` results ([`super::Reports::results`])
 //! that say how well it did, each with a label, a unit and which way is better. `satflock compare`
 //! shows them as rows of its side-by-side table, after the outcomes every run has, so a law declares
 //! its own rows and no tool needs to know law names.

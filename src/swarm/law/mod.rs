@@ -1,28 +1,36 @@
 //! The interface between the engine and a guidance law.
 //!
-//! * [`GuidanceLaw`]: what a law implements — a per-satellite **state** (its own type, stored by the
-//!   engine for every satellite), a per-tick state **update**, and a **command** (an acceleration, or a
-//!   velocity in the kinematic mode) from what one satellite senses.
+//! * [`GuidanceLaw`]: the **core** every law implements — its parameters, a per-satellite **state**
+//!   (its own type, stored by the engine for every satellite; `()` for none), a per-tick state
+//!   **update**, and a **command** (an acceleration, or a velocity in the kinematic mode) from what one
+//!   satellite senses.
+//! * The **capabilities** (module `capability`), optional traits a law implements only if it has
+//!   them and declares with [`capabilities!`](crate::capabilities): [`Centralised`] (a periodic step
+//!   with the whole swarm), [`Reports`] (typed results for `summary.json` and the headline outcomes),
+//!   [`Diagnostics`] (trajectory and metrics columns), [`TargetFormation`] (the points it steers to)
+//!   and [`CommandsDrag`] (a drag attitude per satellite).
 //! * [`SatelliteView`] / [`SwarmView`] (module `view`): the read-only sensing views the engine builds.
 //! * [`LawContext`] (module `context`): what a law may use besides its view — its own random stream, the
 //!   control period and its satellite's actuator.
-//! * [`Headline`] (module `headline`): a law's headline outcomes ([`GuidanceLaw::headlines`]), the
-//!   rows `satflock compare` shows for it.
+//! * [`Headline`] (module `headline`): a law's headline outcomes ([`Reports::headlines`]), the rows
+//!   `satflock compare` shows for it.
 //! * [`Law`] (module `handle`): a law together with the per-satellite states of every satellite, as the
-//!   engine holds it; it runs the double-buffered state update in parallel.
+//!   engine holds it (the one type-erased layer); it runs the double-buffered state update in parallel.
 //!
 //! Decentralisation is enforced by the types: a law computes one satellite's new state and command from a
 //! [`SatelliteView`] (its own navigation state, the neighbours its sensors and links reach, the threats and
 //! obstacles within its sensing range, the ground messages in force) and what those neighbours broadcast
 //! at the previous tick ([`Broadcast`]). Only [`GuidanceLaw::initialise`] (once, before the run or after a
-//! law switch), [`GuidanceLaw::centralised_update`] (a periodic **centralised** step the law schedules
-//! itself, e.g. a ground-computed grouping) and the recording hooks see the whole swarm.
+//! law switch), [`Centralised::centralised_update`] (a periodic **centralised** step the law schedules
+//! itself, e.g. a ground-computed grouping) and the recording hooks ([`Diagnostics::record_metrics`],
+//! [`Reports::results`]) see the whole swarm.
 //!
 //! Every vector here is in the engine's internal LVLH convention, Hill/RSW (x radial out, y along-track,
 //! z orbit normal), relative to the LVLH origin (the virtual reference orbit or a member satellite). Laws
 //! written in another convention (Gao's o-xyz) convert at their boundary with
 //! [`crate::orbit::hill_to_gao`] / [`crate::orbit::gao_to_hill`].
 
+mod capability;
 mod context;
 mod handle;
 mod headline;
@@ -30,13 +38,12 @@ mod headline;
 mod test_swarm;
 mod view;
 
-use std::collections::BTreeMap;
-
 use nalgebra::Vector3;
 use thiserror::Error;
 
-use crate::swarm::DragCommand;
-
+pub use capability::{
+    Centralised, CommandsDrag, Diagnostics, Reports, SerialisedReports, TargetFormation,
+};
 pub use context::LawContext;
 pub(crate) use handle::{own_batch, TickEvaluation, OWN_BATCH};
 pub use handle::{Law, LawParameters};
@@ -76,7 +83,7 @@ pub enum LawError {
         /// The parameter type the law takes.
         expected: &'static str,
     },
-    /// The law failed while the run was going (from [`GuidanceLaw::centralised_update`]): a law that
+    /// The law failed while the run was going (from [`Centralised::centralised_update`]): a law that
     /// calls code outside the engine (a guidance law written in Python) raised an error or returned
     /// commands that cannot be used. The run stops with this error and its outputs stay valid.
     #[error("law `{law}` failed at t = {time_s} s: {message}")]
@@ -90,7 +97,10 @@ pub enum LawError {
     },
 }
 
-/// A guidance law: maps what one satellite senses, and its own state, to its command.
+/// A guidance law's core: maps what one satellite senses, and its own state, to its command. A law
+/// must give [`GuidanceLaw::name`], [`GuidanceLaw::command`] and [`GuidanceLaw::set_parameters`]; the
+/// other methods have defaults, and what a law may do besides is a capability (see the module docs),
+/// declared with [`capabilities!`](crate::capabilities), which writes the `as_*` accessors.
 ///
 /// **Per-tick order** (see `DESIGN.md`): sense → [`GuidanceLaw::update_state`] for every satellite →
 /// [`GuidanceLaw::command`] → actuate → integrate → monitor → record. The update runs once per control
@@ -163,21 +173,6 @@ pub trait GuidanceLaw: Send + Sync + 'static {
         context: &LawContext,
     ) -> Vector3<f64>;
 
-    /// Whether the law commands drag ([`GuidanceLaw::drag_command`]). Default: no.
-    fn commands_drag(&self) -> bool {
-        false
-    }
-
-    /// The drag command of one satellite, from its state after this tick's update (the law decides its
-    /// drag mode in [`GuidanceLaw::update_state`], where it keeps whatever memory the decision needs):
-    /// `None` keeps the current area. The engine applies it to a satellite with drag attitudes, holds it
-    /// to the next tick and keeps a mode at least the satellite's minimum dwell; a command the satellite
-    /// cannot present stops the run. Read only when [`GuidanceLaw::commands_drag`] is `true`. Default:
-    /// `None`.
-    fn drag_command(&self, _state: &Self::State) -> Option<DragCommand> {
-        None
-    }
-
     /// Replaces the parameters (an event of the timeline; the scenario layer has merged the event's keys
     /// with the current values and validated the result).
     fn set_parameters(&mut self, parameters: &Self::Parameters) -> Result<(), LawError>;
@@ -196,66 +191,38 @@ pub trait GuidanceLaw: Send + Sync + 'static {
         None
     }
 
-    /// Names of the per-satellite outputs a user may want to see (e.g. a warning mode), each with its unit
-    /// or meaning; written as per-satellite columns of the trajectory. Default: none.
-    fn output_names(&self) -> &'static [&'static str] {
-        &[]
-    }
-
-    /// Writes the values of [`GuidanceLaw::output_names`] for one satellite's state into `values`.
-    fn write_outputs(&self, _state: &Self::State, _values: &mut [f64]) {}
-
-    /// Names of the scalar metrics the law reports at every recording time (extra columns of
-    /// `metrics.csv`, each name with its unit). Default: none.
-    fn metric_names(&self) -> &'static [&'static str] {
-        &[]
-    }
-
-    /// Called at every recording time (outside the integrator, in time order) with the truth swarm and
-    /// every satellite's state: writes the values of [`GuidanceLaw::metric_names`] into `values` (same
-    /// order and length). The law may keep what it needs across calls. Default: nothing.
-    fn record_metrics(
-        &mut self,
-        _swarm: &SwarmView<'_>,
-        _states: &[Self::State],
-        _values: &mut [f64],
-    ) {
-    }
-
-    /// Whether the law's centralised step is due at the control tick `time_s` \[s\]. Default: never.
-    fn centralised_due(&self, _time_s: f64) -> bool {
-        false
-    }
-
-    /// A **centralised** step with the whole swarm (truth states, who is alive and linked), run before the
-    /// state updates of a tick at which [`GuidanceLaw::centralised_due`] is `true`. It models a computation
-    /// that needs every satellite at once (a ground segment or an elected leader); laws that use it are not
-    /// fully decentralised and must say so. Default: nothing to do.
-    fn centralised_update(&mut self, _swarm: &SwarmView<'_>) -> Result<(), LawError> {
-        Ok(())
-    }
-
-    /// The formation the law steers to, as points in the Hill frame relative to the LVLH origin \[m\]:
-    /// one per slot for a law with slots, or points sampled along the target curve or surface of a law
-    /// with a target shape. Read after [`GuidanceLaw::initialise`] (for the run's pictures, `scene.json`).
-    /// Default: none, for laws whose target is not a fixed set of points in the LVLH frame.
-    fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
+    /// The law as a [`Centralised`] law, if it is one (written by [`capabilities!`](crate::capabilities);
+    /// default `None`).
+    fn as_centralised(&mut self) -> Option<&mut dyn Centralised> {
         None
     }
 
-    /// The law's headline outcomes: keys of [`GuidanceLaw::results`] that say how well it did, with
-    /// their labels, units and which way is better (`satflock compare` shows them as rows of its table,
-    /// in this order). Default: none.
-    fn headlines(&self) -> &'static [Headline] {
-        &[]
+    /// The law as a [`Reports`] law, if it is one (written by [`capabilities!`](crate::capabilities);
+    /// default `None`).
+    fn as_reports(&self) -> Option<&dyn SerialisedReports<Self::State>> {
+        None
     }
 
-    /// Law-specific results for `summary.json`, from the final swarm and states. Default: none.
-    fn results(
-        &self,
-        _swarm: &SwarmView<'_>,
-        _states: &[Self::State],
-    ) -> BTreeMap<String, serde_json::Value> {
-        BTreeMap::new()
+    /// The law as a [`Diagnostics`] law, if it is one (written by
+    /// [`capabilities!`](crate::capabilities); default `None`).
+    fn as_diagnostics(&self) -> Option<&dyn Diagnostics<Self::State>> {
+        None
+    }
+
+    /// [`GuidanceLaw::as_diagnostics`], mutable (to record metrics).
+    fn as_diagnostics_mut(&mut self) -> Option<&mut dyn Diagnostics<Self::State>> {
+        None
+    }
+
+    /// The law as a [`TargetFormation`] law, if it is one (written by
+    /// [`capabilities!`](crate::capabilities); default `None`).
+    fn as_target_formation(&self) -> Option<&dyn TargetFormation> {
+        None
+    }
+
+    /// The law as a [`CommandsDrag`] law, if it is one (written by
+    /// [`capabilities!`](crate::capabilities); default `None`).
+    fn as_commands_drag(&self) -> Option<&dyn CommandsDrag<Self::State>> {
+        None
     }
 }
