@@ -45,7 +45,9 @@ pub use config::{
     ForcesFileError, GravityConfig, GravityModelName, ShadowName, SrpConfig, ThirdBodyConfig,
     MAX_FORCES_FILE_BYTES,
 };
-pub use drag::{drag_acceleration_m_s2, geodetic_altitude_m, Drag, EARTH_ROTATION_RAD_S};
+pub use drag::{
+    drag_acceleration_m_s2, geodetic_altitude_m, speed_from_square_m_s, Drag, EARTH_ROTATION_RAD_S,
+};
 pub use ephemeris::{
     moon_position_eci_m, sun_position_eci_m, ASTRONOMICAL_UNIT_M, GM_MOON_M3_S2, GM_SUN_M3_S2,
 };

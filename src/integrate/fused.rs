@@ -36,7 +36,7 @@
 use nalgebra::Vector3;
 
 use super::rk4::{StepPlan, A, B};
-use crate::dynamics::{Exponential, FastForces, EARTH_ROTATION_RAD_S};
+use crate::dynamics::{speed_from_square_m_s, Exponential, FastForces, EARTH_ROTATION_RAD_S};
 use crate::orbit::{EarthModel, GravityModel};
 
 /// Satellites per parallel chunk: splits of the work fall on multiples of it.
@@ -571,8 +571,18 @@ fn run_blocks<const L: usize, const J2: bool, const DRAG: u8>(job: &Job, part: P
                 forces.half_drag_areas[l] = -0.5 * b[offset + i];
             }
         }
-        for s in 0..job.plan.steps {
-            step::<L, J2, DRAG>(&forces, &mut p, &mut v, &u, job.plan.step_s(s));
+        if control.is_some() {
+            for s in 0..job.plan.steps {
+                step::<L, J2, DRAG>(&forces, &mut p, &mut v, &u, job.plan.step_s(s));
+            }
+        } else {
+            // No held acceleration: the same arithmetic (the same bits) with a zero the compiler
+            // sees, which frees the registers the loaded one held (the step is short of registers;
+            // BENCHMARKS.md, 2026-12-03).
+            let zero: Vec3<L> = [[0.0; L]; 3];
+            for s in 0..job.plan.steps {
+                step::<L, J2, DRAG>(&forces, &mut p, &mut v, &zero, job.plan.step_s(s));
+            }
         }
         for l in 0..len {
             if moves(start + l) {
@@ -649,7 +659,7 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: u8>(
             } else {
                 (v[0][l], v[1][l], v[2][l])
             };
-            let speed = (vx * vx + vy * vy + vz * vz).sqrt();
+            let speed = speed_from_square_m_s(vx * vx + vy * vy + vz * vz);
             let k = density * f.half_drag_areas[l] * speed;
             a[0][l] = (horizontal * x + k * vx) + u[0][l];
             a[1][l] = (horizontal * y + k * vy) + u[1][l];
