@@ -13,6 +13,7 @@
 //! | --- | --- | --- |
 //! | base | [`input_file`] | the one bounded reader of every file satflock is given: regular files only, a stated size limit |
 //! | physics | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
+//! | physics | [`orbit_files`] | CCSDS OEM, OMM (KVN, XML, JSON) and TLE readers giving EME2000 states; SGP4; TEME and GCRF to EME2000 |
 //! | physics | [`dynamics`] | force models behind one trait: gravity (point mass, J2, zonal), drag and atmospheres, SRP, Sun and Moon; the force set of a run |
 //! | physics | [`integrate`] | RK4, adaptive RKF7(8) and DOP853 over state vectors of any length; a run-time [`integrate::Stepper`] |
 //! | physics | [`relative`] | Hill-Clohessy-Wiltshire, J2-linearised (Schweighart-Sedwick) and averaged-J2 relative motion |
@@ -43,6 +44,7 @@ pub mod input_file;
 pub mod integrate;
 pub mod metrics;
 pub mod orbit;
+pub mod orbit_files;
 pub mod output;
 pub mod propagate;
 pub mod random;
