@@ -12,6 +12,7 @@
 //! | layer | module | holds |
 //! | --- | --- | --- |
 //! | base | [`input_file`] | the one bounded reader of every file satflock is given: regular files only, a stated size limit |
+//! | base | [`invalid`] | the one typed error of a value that is not allowed: key, value, problem, what is allowed |
 //! | physics | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
 //! | physics | [`dynamics`] | force models behind one trait: gravity (point mass, J2, zonal), drag and atmospheres, SRP, Sun and Moon; the force set of a run |
 //! | physics | [`integrate`] | RK4, adaptive RKF7(8) and DOP853 over state vectors of any length; a run-time [`integrate::Stepper`] |
@@ -41,6 +42,7 @@ pub mod grid;
 pub mod guidance;
 pub mod input_file;
 pub mod integrate;
+pub mod invalid;
 pub mod metrics;
 pub mod orbit;
 pub mod output;
