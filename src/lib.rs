@@ -12,6 +12,7 @@
 //! | layer | module | holds |
 //! | --- | --- | --- |
 //! | base | [`input_file`] | the one bounded reader of every file satflock is given: regular files only, a stated size limit |
+//! | base | [`invalid`] | the one typed error of a value that is not allowed: key, value, problem, what is allowed |
 //! | physics | [`orbit`] | Earth constants, Keplerian elements <-> Cartesian, point-mass + J2 gravity, LVLH frames |
 //! | physics | [`orbit_files`] | CCSDS OEM, OMM (KVN, XML, JSON) and TLE readers giving EME2000 states; SGP4; TEME and GCRF to EME2000 |
 //! | physics | [`dynamics`] | force models behind one trait: gravity (point mass, J2, zonal), drag and atmospheres, SRP, Sun and Moon; the force set of a run |
@@ -42,6 +43,7 @@ pub mod grid;
 pub mod guidance;
 pub mod input_file;
 pub mod integrate;
+pub mod invalid;
 pub mod metrics;
 pub mod orbit;
 pub mod orbit_files;

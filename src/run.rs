@@ -84,11 +84,10 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
         SimError::ProcessNoise { .. } => "dynamics",
         _ => return RunError::Simulation(e),
     };
-    RunError::Scenario(ScenarioError::Invalid {
-        file: scenario.sources(),
-        key: key.into(),
-        message: e.to_string(),
-    })
+    RunError::Scenario(ScenarioError::invalid(
+        &scenario.sources(),
+        crate::invalid::Invalid::keys(key, e.to_string(), ""),
+    ))
 }
 
 /// The files a run writes into its output directory, and those written there later (`swarm.oem`,
@@ -231,11 +230,10 @@ fn foreign_entry(dir: &Path, extensions: &[&str]) -> std::io::Result<Option<Stri
 /// finite and > 0.
 fn check_output_keys(scenario: &Scenario) -> Result<Option<f64>, RunError> {
     match scenario.file.output.delta_v_budget_mps {
-        Some(b) if !(b.is_finite() && b > 0.0) => Err(ScenarioError::Invalid {
-            file: scenario.sources(),
-            key: "output.delta_v_budget_mps".into(),
-            message: format!("{b} is out of range (allowed: finite, > 0 m/s)"),
-        }
+        Some(b) if !(b.is_finite() && b > 0.0) => Err(ScenarioError::invalid(
+            &scenario.sources(),
+            crate::invalid::Invalid::range("output.delta_v_budget_mps", b, "finite, > 0 m/s"),
+        )
         .into()),
         budget => Ok(budget),
     }

@@ -264,14 +264,20 @@ fn bad_force_parameters_are_refused_naming_the_key() {
     for (forces, satellites, key) in cases {
         let text = case(400e3, "rk4", &forces, satellites);
         match prepare(&text) {
-            Err(ScenarioError::Invalid {
-                file,
-                key: got,
-                message,
-            }) => {
+            Err(e @ ScenarioError::Invalid { .. }) => {
+                let ScenarioError::Invalid {
+                    file,
+                    key: got,
+                    allowed,
+                    ..
+                } = &e
+                else {
+                    unreachable!("matched above")
+                };
                 assert_eq!(file, "case.toml");
-                assert!(got.contains(key), "{key}: got key {got}: {message}");
-                assert!(message.contains("allowed"), "{key}: {message}");
+                assert!(got.contains(key), "{key}: got key {got}: {e}");
+                assert!(!allowed.is_empty(), "{key}: {e}");
+                assert!(e.to_string().contains("allowed"), "{key}: {e}");
             }
             other => panic!("{key}: expected an Invalid error, got {:?}", other.err()),
         }

@@ -648,20 +648,22 @@ fn regress_event_law_beyond_the_sensing_range_is_refused_at_load() {
     let text = format!(
         "{base}\n[[events]]\ntime_s = 10.0\naction = \"set-law-parameters\"\nparameters = {{ avoidance_radius_m = 1000.0 }}\n"
     );
-    match load_in(&text, Path::new(".")) {
-        Err(ScenarioError::Invalid { file, key, message }) => {
-            assert_eq!(
-                (file.as_str(), key.as_str()),
-                ("case.toml", "events[0].parameters")
-            );
-            assert!(
-                message.contains("exceeds the sensing range 500 m"),
-                "{message}"
-            );
-            assert!(message.contains("allowed"), "{message}");
-        }
-        other => panic!("expected a refusal, got {:?}", other.err()),
-    }
+    let Err(err) = load_in(&text, Path::new(".")) else {
+        panic!("accepted, expected a refusal");
+    };
+    let message = err.to_string();
+    let ScenarioError::Invalid { file, key, .. } = &err else {
+        panic!("expected Invalid, got {err:?}");
+    };
+    assert_eq!(
+        (file.as_str(), key.as_str()),
+        ("case.toml", "events[0].parameters")
+    );
+    assert!(
+        message.contains("exceeds the sensing range 500 m"),
+        "{message}"
+    );
+    assert!(message.contains("allowed"), "{message}");
 }
 
 // ---- Issue 25: silent acceptance ----

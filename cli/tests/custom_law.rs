@@ -225,7 +225,7 @@ fn bad_parameters_of_the_registered_law_are_refused_naming_file_key_and_range() 
         arg(&bad).as_str(),
         "key `law`",
         "law `centring`",
-        "stiffness_per_s2 = -1 is out of range (allowed: finite, > 0)",
+        "key `stiffness_per_s2`: -1 is out of range (allowed: finite, > 0)",
     ] {
         assert!(message.contains(part), "`{part}` not in: {message}");
     }
@@ -237,7 +237,7 @@ fn bad_parameters_of_the_registered_law_are_refused_naming_file_key_and_range() 
     );
     for part in [
         "key `events[0].parameters`",
-        "dither_m = -2 is out of range (allowed: finite, >= 0)",
+        "key `dither_m`: -2 is out of range (allowed: finite, >= 0)",
     ] {
         assert!(message.contains(part), "`{part}` not in: {message}");
     }
@@ -303,7 +303,7 @@ fn a_scenario_names_the_registered_law_and_its_events_as_a_built_in() {
     for part in [
         "centring.toml",
         "events[0]",
-        "dither_m = -0.5 is out of range (allowed: finite, >= 0)",
+        "key `dither_m`: -0.5 is out of range (allowed: finite, >= 0)",
     ] {
         assert!(error.contains(part), "`{part}` not in: {error}");
     }

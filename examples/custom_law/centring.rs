@@ -9,6 +9,7 @@
 //! `examples/custom_law.rs` for the details.
 
 use nalgebra::{Vector3, Vector6};
+use satflock::invalid::Invalid;
 use satflock::relative::Hcw;
 use satflock::swarm::{
     Better, Broadcast, Diagnostics, GuidanceLaw, Headline, LawContext, LawError, Reports,
@@ -38,10 +39,7 @@ impl CentringParameters {
     /// Checks every value's range; the error names the key and the allowed range.
     pub fn check(&self) -> Result<(), LawError> {
         let invalid = |key: &str, value: f64, allowed: &str| {
-            Err(LawError::InvalidParameters {
-                law: NAME.into(),
-                message: format!("{key} = {value} is out of range (allowed: {allowed})"),
-            })
+            Err(LawError::invalid(NAME, Invalid::range(key, value, allowed)))
         };
         if !(self.stiffness_per_s2.is_finite() && self.stiffness_per_s2 > 0.0) {
             return invalid("stiffness_per_s2", self.stiffness_per_s2, "finite, > 0");

@@ -397,15 +397,18 @@ pub fn prepared_with(
         return Ok(prepared);
     };
     let ControlTiming::Sampled { period_s } = prepared.config.control else {
-        return Err(ScenarioError::Invalid {
-            file: scenario.sources(),
-            key: "control".into(),
-            message: format!(
-                "mode = \"continuous\" cannot run the Python law `{}`, which is evaluated once per \
-                 control tick (allowed with law=: mode = \"sampled\" with a period_s)",
-                law.name
+        return Err(ScenarioError::invalid(
+            &scenario.sources(),
+            satflock::invalid::Invalid::new(
+                "control",
+                "mode = \"continuous\"",
+                format!(
+                    "cannot run the Python law `{}`, which is evaluated once per control tick",
+                    law.name
+                ),
+                "with law=: mode = \"sampled\" with a period_s",
             ),
-        });
+        ));
     };
     let source = format!("python:{}", law.name);
     let law = Law::new(PythonLaw {

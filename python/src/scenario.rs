@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use satflock::campaign::overrides::{self, KeyPath, Segment};
+use satflock::invalid::Invalid;
 use satflock::scenario::{builtin, Controller, Scenario, ScenarioError};
 
 use crate::convert::{dict_to_table, py_to_toml, table_to_py, toml_to_py};
@@ -57,10 +58,8 @@ impl PyScenario {
     fn with_values(&self, values: &[(String, toml::Value)]) -> Result<Self, ScenarioError> {
         let mut next = self.clone();
         for (key, value) in values {
-            let invalid = |message: String| ScenarioError::Invalid {
-                file: self.source.clone(),
-                key: key.clone(),
-                message,
+            let invalid = |message: String| {
+                ScenarioError::invalid(&self.source, Invalid::keys(key.clone(), message, ""))
             };
             let path = KeyPath::parse(key).map_err(invalid)?;
             overrides::apply(&mut next.table, &path, value).map_err(invalid)?;
@@ -68,11 +67,10 @@ impl PyScenario {
         // An unknown key or a wrong type is the key's fault: name it.
         if let Err(ScenarioError::Parse { message, .. }) = next.scenario() {
             let key = values.iter().map(|(k, _)| k.as_str()).collect::<Vec<_>>();
-            return Err(ScenarioError::Invalid {
-                file: self.source.clone(),
-                key: key.join(", "),
-                message,
-            });
+            return Err(ScenarioError::invalid(
+                &self.source,
+                Invalid::keys(key.join(", "), message, ""),
+            ));
         }
         next.check()?;
         Ok(next)
@@ -164,11 +162,10 @@ impl PyScenario {
         for (key, value) in values.iter() {
             let key: String = key.extract()?;
             let value = py_to_toml(&value, &key).map_err(|message| {
-                scenario_error(&ScenarioError::Invalid {
-                    file: self.source.clone(),
-                    key: key.clone(),
-                    message,
-                })
+                scenario_error(&ScenarioError::invalid(
+                    &self.source,
+                    Invalid::keys(key.clone(), message, ""),
+                ))
             })?;
             pairs.push((key, value));
         }
@@ -199,11 +196,10 @@ impl PyScenario {
     /// `ScenarioError` (naming the key and the allowed range) and leaves the scenario unchanged.
     fn __setitem__(&mut self, key: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
         let value = py_to_toml(value, key).map_err(|message| {
-            scenario_error(&ScenarioError::Invalid {
-                file: self.source.clone(),
-                key: key.into(),
-                message,
-            })
+            scenario_error(&ScenarioError::invalid(
+                &self.source,
+                Invalid::keys(key, message, ""),
+            ))
         })?;
         *self = self
             .with_values(&[(key.to_string(), value)])

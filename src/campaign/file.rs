@@ -441,10 +441,11 @@ impl Campaign {
             .map(|(k, v)| (k, v))
             .chain(self.point_values(run.point));
         for (key, value) in values {
-            overrides::apply(&mut table, key, value).map_err(|message| ScenarioError::Invalid {
-                file: self.scenario.source.clone(),
-                key: key.to_string(),
-                message,
+            overrides::apply(&mut table, key, value).map_err(|message| {
+                ScenarioError::invalid(
+                    &self.scenario.source,
+                    crate::invalid::Invalid::keys(key.to_string(), message, ""),
+                )
             })?;
         }
         let mut scenario = read_scenario(&self.scenario, table)?;

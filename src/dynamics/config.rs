@@ -184,6 +184,13 @@ impl ForceConfigError {
     }
 }
 
+impl From<ForceConfigError> for crate::invalid::Invalid {
+    /// The force model's parameter error as the one typed error: `VALUE is out of range (allowed: …)`.
+    fn from(e: ForceConfigError) -> Self {
+        Self::range(e.key, e.value, e.allowed)
+    }
+}
+
 /// `value` if it is finite and inside `(low, high]`-style bounds given by `ok`, else the error for `key`.
 pub(crate) fn check(
     key: &str,

@@ -30,6 +30,7 @@
 //! Units: SI inside (m, kg, s). The paper's km-based gains convert as k_f \[kg/(m·s²)\] = 10⁻³ ×
 //! k_f \[kg/(km·s²)\]; k_c \[kg/s²\] and k_v \[kg/s\] keep their numbers; lengths ×1000 (method page §1.2).
 
+use crate::invalid::Invalid;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -151,18 +152,16 @@ impl ShapeError {
 impl BifurcatingParameters {
     /// Checks every range and refuses parameter sets that make no formation (method page §3.4).
     pub fn check(&self) -> Result<(), LawError> {
-        let invalid = |message: String| LawError::InvalidParameters {
-            law: "bifurcating".into(),
-            message,
-        };
+        let invalid = |invalid: Invalid| LawError::invalid("bifurcating", invalid);
         let finite_at_least = |key: &str, v: f64, min: f64, strict: bool| {
             let ok = v.is_finite() && if strict { v > min } else { v >= min };
             if ok {
                 Ok(())
             } else {
-                Err(invalid(format!(
-                    "{key} = {v} is out of range (allowed: finite, {} {min})",
-                    if strict { ">" } else { ">=" }
+                Err(invalid(Invalid::range(
+                    key,
+                    v,
+                    format!("finite, {} {min}", if strict { ">" } else { ">=" }),
                 )))
             }
         };
@@ -176,15 +175,16 @@ impl BifurcatingParameters {
         finite_at_least("radius_m", self.radius_m, 0.0, false)?;
         finite_at_least("sigma_m", self.sigma_m, 0.0, true)?;
         if !(self.mu_m.is_finite() && self.mu_m != 0.0) {
-            return Err(invalid(format!(
-                "mu_m = {} is out of range (allowed: finite, != 0; mu = 0 leaves no stiffness at the \
-                 target set, phi''(0) = 0)",
-                self.mu_m
+            return Err(invalid(Invalid::range(
+                "mu_m",
+                self.mu_m,
+                "finite, != 0; mu = 0 leaves no stiffness at the \
+                 target set, phi''(0) = 0",
             )));
         }
         let zeros = self.factors().iter().filter(|f| **f == 0.0).count();
         if zeros > 1 {
-            return Err(invalid(format!(
+            return Err(invalid(Invalid::keys("shape factors", format!(
                 "shape factors (a, b{}) = ({}, {}{}) have {zeros} zeros: the shape coordinate is then \
                  zero everywhere in the formation plane and makes no formation (allowed: at most one \
                  zero)",
@@ -196,15 +196,19 @@ impl BifurcatingParameters {
                 } else {
                     String::new()
                 }
-            )));
+            ), "")));
         }
         let offset = self.shape_offset_m();
         if offset > 0.0 && self.mu_m >= offset {
-            return Err(invalid(format!(
+            return Err(invalid(Invalid::keys(
+                "mu_m",
+                format!(
                 "mu_m = {} m >= the shape offset {} m (a·b·r, or a·b·c·r in 3-D): the inner shell \
                  e = -mu would have a negative radius and the centre becomes a potential minimum \
                  (allowed: mu_m < {offset} m, or radius_m = 0)",
                 self.mu_m, offset
+            ),
+                "",
             )));
         }
         Ok(())
@@ -457,14 +461,18 @@ impl Bifurcating {
 
     fn check_range(parameters: &BifurcatingParameters, range: f64) -> Result<(), LawError> {
         match range {
-            range if parameters.avoidance_radius_m > range => Err(LawError::InvalidParameters {
-                law: "bifurcating".into(),
-                message: format!(
-                    "avoidance_radius_m = {} m exceeds the sensing range {range} m: neighbours \
-                         between the two would be missed (allowed: <= sensing.range_m)",
-                    parameters.avoidance_radius_m
+            range if parameters.avoidance_radius_m > range => Err(LawError::invalid(
+                "bifurcating",
+                Invalid::new(
+                    "avoidance_radius_m",
+                    format!("{} m", parameters.avoidance_radius_m),
+                    format!(
+                        "exceeds the sensing range {range} m: neighbours between the two would be \
+                         missed"
+                    ),
+                    "<= sensing.range_m",
                 ),
-            }),
+            )),
             _ => Ok(()),
         }
     }

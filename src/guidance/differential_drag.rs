@@ -32,6 +32,7 @@
 //! (`[sensing] ring_neighbours`); sensing only part of the flock, it uses the run of consecutive ranks
 //! around its own. It cannot change the plane, and its time to phase grows as 1/ΔB (method page).
 
+use crate::invalid::Invalid;
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
 
@@ -92,38 +93,40 @@ fn default_phased_tolerance() -> f64 {
 
 impl DifferentialDragParameters {
     fn check(&self) -> Result<(), LawError> {
-        let bad = |message: String| LawError::InvalidParameters {
-            law: "differential-drag".into(),
-            message,
-        };
+        let bad = |invalid: Invalid| LawError::invalid("differential-drag", invalid);
         if !(self.spacing_deg > 0.0 && self.spacing_deg <= 180.0) {
-            return Err(bad(format!(
-                "spacing_deg = {} is out of range (allowed: (0, 180])",
-                self.spacing_deg
+            return Err(bad(Invalid::range(
+                "spacing_deg",
+                self.spacing_deg,
+                "(0, 180]",
             )));
         }
         if !(self.deadband_deg >= 0.0 && self.deadband_deg.is_finite()) {
-            return Err(bad(format!(
-                "deadband_deg = {} is out of range (allowed: finite, >= 0)",
-                self.deadband_deg
+            return Err(bad(Invalid::range(
+                "deadband_deg",
+                self.deadband_deg,
+                "finite, >= 0",
             )));
         }
         if !(self.authority_deg_per_day2 > 0.0 && self.authority_deg_per_day2.is_finite()) {
-            return Err(bad(format!(
-                "authority_deg_per_day2 = {} is out of range (allowed: finite, > 0)",
-                self.authority_deg_per_day2
+            return Err(bad(Invalid::range(
+                "authority_deg_per_day2",
+                self.authority_deg_per_day2,
+                "finite, > 0",
             )));
         }
         if !(self.update_period_s > 0.0 && self.update_period_s.is_finite()) {
-            return Err(bad(format!(
-                "update_period_s = {} is out of range (allowed: finite, > 0)",
-                self.update_period_s
+            return Err(bad(Invalid::range(
+                "update_period_s",
+                self.update_period_s,
+                "finite, > 0",
             )));
         }
         if !(self.phased_tolerance > 0.0 && self.phased_tolerance < 1.0) {
-            return Err(bad(format!(
-                "phased_tolerance = {} is out of range (allowed: (0, 1))",
-                self.phased_tolerance
+            return Err(bad(Invalid::range(
+                "phased_tolerance",
+                self.phased_tolerance,
+                "(0, 1)",
             )));
         }
         Ok(())

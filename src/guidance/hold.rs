@@ -11,6 +11,7 @@
 //! on HCW dynamics the closed loop is exactly r̈ + k_d ṙ + k_p (r − r_slot) = 0 on each axis.
 //! This law exists to test the engine; it needs no neighbours.
 
+use crate::invalid::Invalid;
 use std::sync::Arc;
 
 use nalgebra::Vector3;
@@ -71,24 +72,27 @@ impl Hold {
 }
 
 fn check(p: &HoldParameters) -> Result<(), LawError> {
-    let invalid = |message: String| LawError::InvalidParameters {
-        law: "hold".into(),
-        message,
-    };
+    let invalid = |invalid: Invalid| LawError::invalid("hold", invalid);
     if !(p.stiffness_per_s2 > 0.0 && p.stiffness_per_s2.is_finite()) {
-        return Err(invalid(format!(
-            "stiffness_per_s2 = {} is out of range (allowed: finite, > 0)",
-            p.stiffness_per_s2
+        return Err(invalid(Invalid::range(
+            "stiffness_per_s2",
+            p.stiffness_per_s2,
+            "finite, > 0",
         )));
     }
     if !(p.damping_per_s >= 0.0 && p.damping_per_s.is_finite()) {
-        return Err(invalid(format!(
-            "damping_per_s = {} is out of range (allowed: finite, >= 0)",
-            p.damping_per_s
+        return Err(invalid(Invalid::range(
+            "damping_per_s",
+            p.damping_per_s,
+            "finite, >= 0",
         )));
     }
     if p.slot_offset_hill_m.iter().any(|v| !v.is_finite()) {
-        return Err(invalid("slot_offset_hill_m must be finite".into()));
+        return Err(invalid(Invalid::keys(
+            "slot_offset_hill_m",
+            "slot_offset_hill_m must be finite",
+            "",
+        )));
     }
     Ok(())
 }

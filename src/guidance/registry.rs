@@ -243,14 +243,15 @@ impl RegisteredLaw {
     pub fn build(&self) -> Result<Law, LawError> {
         let law = self.parsed.build()?;
         if law.name() != self.name {
-            return Err(LawError::InvalidParameters {
-                law: self.name.into(),
-                message: format!(
-                    "the law registered as `{}` calls itself `{}` (GuidanceLaw::name must return the registered name)",
-                    self.name,
-                    law.name()
+            return Err(LawError::invalid(
+                self.name,
+                crate::invalid::Invalid::new(
+                    "name",
+                    format!("`{}`", law.name()),
+                    format!("is what the law registered as `{}` calls itself", self.name),
+                    "GuidanceLaw::name must return the registered name",
                 ),
-            });
+            ));
         }
         Ok(law)
     }

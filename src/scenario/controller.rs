@@ -89,14 +89,15 @@ impl Controller {
             ),
         })?;
         if let Some(k) = file.events.iter().position(|e| !is_law_event(&e.action)) {
-            return Err(ScenarioError::Invalid {
-                file: source.to_string(),
-                key: format!("events[{k}].action"),
-                message: "is not a law event (allowed in a controller file: \"switch-law\", \
-                          \"set-law-parameters\"; ground messages, link cuts, losses and failures \
-                          belong to the case)"
-                    .into(),
-            });
+            return Err(ScenarioError::invalid(
+                source,
+                crate::invalid::Invalid::keys(
+                    format!("events[{k}].action"),
+                    "is not a law event",
+                    "in a controller file: \"switch-law\", \"set-law-parameters\"; ground \
+                     messages, link cuts, losses and failures belong to the case",
+                ),
+            ));
         }
         Ok(Self {
             file,

@@ -37,15 +37,21 @@ pub enum ScenarioError {
         /// The parser's message, with line and column and the offending key.
         message: String,
     },
-    /// A value is out of its allowed range or inconsistent with another.
-    #[error("{file}: key `{key}`: {message}")]
+    /// A value is out of its allowed range or inconsistent with another: a [`crate::invalid::Invalid`]
+    /// in a file. The text reads `FILE: key \`KEY\`: VALUE PROBLEM (allowed: ALLOWED)`.
+    #[error("{file}: key `{key}`: {}", crate::invalid::detail(value, allowed))]
     Invalid {
         /// The file.
         file: String,
         /// Dotted path of the key.
         key: String,
-        /// What is wrong and what is allowed.
-        message: String,
+        /// The value as given, written back, and what is wrong with it (`-1 is out of range`,
+        /// `missing`): [`crate::invalid::Invalid::value`].
+        value: String,
+        /// What is allowed.
+        allowed: String,
+        /// The system's error, when a file the key names could not be read.
+        source: Option<std::sync::Arc<std::io::Error>>,
     },
     /// No built-in scenario has that name, and no file has that path.
     #[error("no scenario file `{name}` and no built-in scenario of that name (built-in: {known})")]
@@ -145,6 +151,37 @@ fn table_path(lines: &[&str], at: usize) -> String {
         }
     }
     own
+}
+
+impl ScenarioError {
+    /// `invalid` found in `file`.
+    pub fn invalid(file: &str, invalid: crate::invalid::Invalid) -> Self {
+        let crate::invalid::Invalid {
+            key,
+            value,
+            allowed,
+        } = invalid;
+        Self::Invalid {
+            file: file.to_string(),
+            key,
+            value,
+            allowed,
+            source: None,
+        }
+    }
+
+    /// `invalid` found in `file`, caused by the system's error `source` reading a file the key names.
+    pub fn invalid_io(
+        file: &str,
+        invalid: crate::invalid::Invalid,
+        source: std::io::Error,
+    ) -> Self {
+        let mut e = Self::invalid(file, invalid);
+        if let Self::Invalid { source: s, .. } = &mut e {
+            *s = Some(std::sync::Arc::new(source));
+        }
+        e
+    }
 }
 
 /// A scenario loaded from somewhere, with the name of where (for error messages and relative paths).

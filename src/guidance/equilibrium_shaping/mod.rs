@@ -44,6 +44,7 @@ mod results;
 pub mod shaping;
 pub mod state_machine;
 
+use crate::invalid::Invalid;
 use std::sync::Arc;
 
 use nalgebra::Vector3;
@@ -83,11 +84,8 @@ const METRIC_NAMES: &[&str] = &[
     "es_returning",
 ];
 
-fn invalid(message: String) -> LawError {
-    LawError::InvalidParameters {
-        law: "equilibrium-shaping".into(),
-        message,
-    }
+fn invalid(invalid: Invalid) -> LawError {
+    LawError::invalid("equilibrium-shaping", invalid)
 }
 
 /// The `equilibrium-shaping` law.
@@ -134,16 +132,25 @@ impl EquilibriumShaping {
             .any(|(set, _)| *set == FieldSet::GatherAvoidDock);
         let avoid = if shaped {
             if n > MAX_SHAPED_NODES {
-                return Err(invalid(format!(
+                return Err(invalid(Invalid::keys(
+                    "strategy",
+                    format!(
                     "strategy = \"{}\" solves for the avoid coefficients of every pair (a dense \
                      3N × N(N-1)/2 system): {n} nodes exceed the {MAX_SHAPED_NODES} allowed (use \
                      strategy = \"moving-centroid\" for larger formations)",
                     p.strategy.name()
+                ),
+                    "",
                 )));
             }
             Some(
-                shaping::solve_avoid_coefficients(&nodes, &p.gather_avoid_dock())
-                    .map_err(|e| invalid(format!("equilibrium shaping: {e}")))?,
+                shaping::solve_avoid_coefficients(&nodes, &p.gather_avoid_dock()).map_err(|e| {
+                    invalid(Invalid::keys(
+                        "strategy",
+                        format!("equilibrium shaping: {e}"),
+                        "",
+                    ))
+                })?,
             )
         } else {
             None
@@ -262,11 +269,11 @@ impl EquilibriumShaping {
     ) -> Result<Option<Vector3<f64>>, LawError> {
         let nodes = tables.nodes_m.len();
         if started.count != nodes {
-            return Err(invalid(format!(
+            return Err(invalid(Invalid::keys("formation", format!(
                 "the formation has {nodes} nodes but the swarm {} satellites (satellite i takes node \
                  i: give as many satellites as nodes)",
                 started.count
-            )));
+            ), "")));
         }
         // The ES avoid coefficients balance every pair at the nodes: each pair must be sensed there.
         // (Eq. 1 and Lennard-Jones pair terms vanish one by one at the nodes, so S2 needs no such range.)
@@ -276,10 +283,14 @@ impl EquilibriumShaping {
         let largest = Self::largest_node_distance_m(tables);
         let range = started.sensing_range_m;
         if shaped && largest > range {
-            return Err(invalid(format!(
+            return Err(invalid(Invalid::keys(
+                "formation",
+                format!(
                 "the largest node distance {largest} m exceeds the sensing range {range} m: the \
                  equilibrium-shaped avoid coefficients balance every pair at the nodes, so every \
                  satellite must sense every other there (allowed: sensing.range_m >= {largest})"
+            ),
+                "",
             )));
         }
         let threats = &started.threat_velocities_hill_mps;
@@ -288,29 +299,37 @@ impl EquilibriumShaping {
             // (e.g. this law's controller put on a case without the threat it was written for).
             return match p.threat {
                 0 => Ok(None),
-                k => Err(invalid(format!(
+                k => Err(invalid(Invalid::keys(
+                    "threat",
+                    format!(
                     "threat = {k} but the scenario has no threats (allowed: 0, the default, which \
                      has no effect without threats)"
+                ),
+                    "",
                 ))),
             };
         }
         let Some(v_t) = threats.get(p.threat) else {
-            return Err(invalid(format!(
-                "threat = {} but the scenario has {} threats (allowed: 0 ..= {})",
-                p.threat,
-                threats.len(),
-                threats.len() - 1
+            return Err(invalid(Invalid::keys(
+                "threat",
+                format!(
+                    "threat = {} but the scenario has {} threats (allowed: 0 ..= {})",
+                    p.threat,
+                    threats.len(),
+                    threats.len() - 1
+                ),
+                "",
             )));
         };
         if let (Escape::PerpCommon, Some(d)) = (p.escape, p.escape_direction_hill) {
             if !state_machine::direction_is_perpendicular_enough(&Vector3::from(d), v_t) {
-                return Err(invalid(format!(
+                return Err(invalid(Invalid::keys("escape_direction_hill", format!(
                     "escape_direction_hill = {d:?} is along the velocity of threat {} ({:?} m/s): \
                      nothing is left perpendicular to it (allowed: any direction not parallel to the \
                      threat's velocity)",
                     p.threat,
                     [v_t.x, v_t.y, v_t.z]
-                )));
+                ), "")));
             }
         }
         Ok(Some(state_machine::common_escape_direction(

@@ -5,6 +5,7 @@
 //! Frames: every position and direction is in the Hill frame (x radial out, y along-track, z orbit
 //! normal) relative to the LVLH origin.
 
+use crate::invalid::Invalid;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -269,9 +270,10 @@ impl EquilibriumShapingParameters {
             if ok {
                 Ok(())
             } else {
-                Err(invalid(format!(
-                    "{key} = {v} is out of range (allowed: finite, {} {min})",
-                    if strict { ">" } else { ">=" }
+                Err(invalid(Invalid::range(
+                    key,
+                    v,
+                    format!("finite, {} {min}", if strict { ">" } else { ">=" }),
                 )))
             }
         };
@@ -304,46 +306,57 @@ impl EquilibriumShapingParameters {
         range("settle_speed_mps", self.settle_speed_mps, 0.0, true)?;
         range("settle_hold_s", self.settle_hold_s, 0.0, false)?;
         if self.danger_center_hill_m.iter().any(|v| !v.is_finite()) {
-            return Err(invalid(format!(
-                "danger_center_hill_m = {:?} is out of range (allowed: finite)",
-                self.danger_center_hill_m
+            return Err(invalid(Invalid::keys(
+                "danger_center_hill_m",
+                format!(
+                    "danger_center_hill_m = {:?} is out of range (allowed: finite)",
+                    self.danger_center_hill_m
+                ),
+                "",
             )));
         }
         match (self.formation, &self.nodes_hill_m) {
-            (Formation::Custom, None) => return Err(invalid(
-                "formation = \"custom\" needs nodes_hill_m (a list of [x, y, z] in metres, Hill \
+            (Formation::Custom, None) => return Err(invalid(Invalid::keys("formation", "formation = \"custom\" needs nodes_hill_m (a list of [x, y, z] in metres, Hill \
                      frame, one per satellite)"
-                    .into(),
-            )),
-            (Formation::Rhombus | Formation::Hexagon, Some(_)) => return Err(invalid(
-                "nodes_hill_m is only read with formation = \"custom\" (the presets are set by \
+                    , ""))),
+            (Formation::Rhombus | Formation::Hexagon, Some(_)) => return Err(invalid(Invalid::keys("nodes_hill_m", "nodes_hill_m is only read with formation = \"custom\" (the presets are set by \
                      side_m)"
-                    .into(),
-            )),
+                    , ""))),
             _ => {}
         }
         let key = match self.formation {
             Formation::Custom => "nodes_hill_m",
             Formation::Rhombus | Formation::Hexagon => "formation",
         };
-        check_nodes(&self.nodes_hill_m()).map_err(|e| invalid(format!("{key}: {e}")))?;
+        check_nodes(&self.nodes_hill_m())
+            .map_err(|e| invalid(Invalid::keys(key, format!("{key}: {e}"), "")))?;
         if let Some(d) = self.escape_direction_hill {
             if self.escape != Escape::PerpCommon {
-                return Err(invalid(
-                    "escape_direction_hill is only read with escape = \"perp-common\"".into(),
-                ));
+                return Err(invalid(Invalid::keys(
+                    "escape_direction_hill",
+                    "escape_direction_hill is only read with escape = \"perp-common\"",
+                    "",
+                )));
             }
             if !d.iter().all(|v| v.is_finite()) || Vector3::from(d).norm() == 0.0 {
-                return Err(invalid(format!(
-                    "escape_direction_hill = {d:?} is out of range (allowed: finite, non-zero)"
+                return Err(invalid(Invalid::keys(
+                    "escape_direction_hill",
+                    format!(
+                        "escape_direction_hill = {d:?} is out of range (allowed: finite, non-zero)"
+                    ),
+                    "",
                 )));
             }
         }
         if self.escape_seed > i64::MAX as u64 {
-            return Err(invalid(format!(
-                "escape_seed = {} is out of range (allowed: 0 ..= {})",
-                self.escape_seed,
-                i64::MAX
+            return Err(invalid(Invalid::keys(
+                "escape_seed",
+                format!(
+                    "escape_seed = {} is out of range (allowed: 0 ..= {})",
+                    self.escape_seed,
+                    i64::MAX
+                ),
+                "",
             )));
         }
         Ok(())
@@ -400,9 +413,6 @@ pub fn gaussian_width_m2(radius_m: f64) -> f64 {
     2.0 * (radius_m / 3.0).powi(2)
 }
 
-fn invalid(message: String) -> LawError {
-    LawError::InvalidParameters {
-        law: "equilibrium-shaping".into(),
-        message,
-    }
+fn invalid(invalid: Invalid) -> LawError {
+    LawError::invalid("equilibrium-shaping", invalid)
 }

@@ -21,6 +21,7 @@
 
 pub mod grouping;
 
+use crate::invalid::Invalid;
 use std::sync::Arc;
 
 use nalgebra::{DMatrix, Matrix3, Vector3, Vector6};
@@ -199,10 +200,7 @@ impl Default for J2DistanceParameters {
 }
 
 fn check(p: &J2DistanceParameters) -> Result<(), LawError> {
-    let invalid = |message: String| LawError::InvalidParameters {
-        law: "j2-distance".into(),
-        message,
-    };
+    let invalid = |invalid: Invalid| LawError::invalid("j2-distance", invalid);
     let positive = [
         ("gain_a_per_s", p.gain_a_per_s),
         ("gamma_a", p.gamma_a),
@@ -215,9 +213,7 @@ fn check(p: &J2DistanceParameters) -> Result<(), LawError> {
     ];
     for (key, v) in positive {
         if !(v.is_finite() && v > 0.0) {
-            return Err(invalid(format!(
-                "{key} = {v} is out of range (allowed: finite, > 0)"
-            )));
+            return Err(invalid(Invalid::range(key, v, "finite, > 0")));
         }
     }
     let non_negative = [
@@ -229,39 +225,43 @@ fn check(p: &J2DistanceParameters) -> Result<(), LawError> {
     ];
     for (key, v) in non_negative {
         if !(v.is_finite() && v >= 0.0) {
-            return Err(invalid(format!(
-                "{key} = {v} is out of range (allowed: finite, >= 0)"
-            )));
+            return Err(invalid(Invalid::range(key, v, "finite, >= 0")));
         }
     }
     if !(p.gain_alpha_a > 0.0 && p.gain_alpha_a <= 1.0) {
-        return Err(invalid(format!(
-            "gain_alpha_a = {} is out of range (allowed: (0, 1])",
-            p.gain_alpha_a
+        return Err(invalid(Invalid::range(
+            "gain_alpha_a",
+            p.gain_alpha_a,
+            "(0, 1]",
         )));
     }
     if !(p.barrier_clamp_fraction > 0.0 && p.barrier_clamp_fraction < 0.5) {
-        return Err(invalid(format!(
-            "barrier_clamp_fraction = {} is out of range (allowed: (0, 0.5))",
-            p.barrier_clamp_fraction
+        return Err(invalid(Invalid::range(
+            "barrier_clamp_fraction",
+            p.barrier_clamp_fraction,
+            "(0, 0.5)",
         )));
     }
     if !(p.plane_theta_p_deg > 0.0 && p.plane_theta_p_deg <= 90.0) {
-        return Err(invalid(format!(
-            "plane_theta_p_deg = {} is out of range (allowed: (0, 90])",
-            p.plane_theta_p_deg
+        return Err(invalid(Invalid::range(
+            "plane_theta_p_deg",
+            p.plane_theta_p_deg,
+            "(0, 90]",
         )));
     }
     if !(p.plane_theta_zxy_deg > -90.0 && p.plane_theta_zxy_deg < 90.0) {
-        return Err(invalid(format!(
-            "plane_theta_zxy_deg = {} is out of range (allowed: (-90, 90))",
-            p.plane_theta_zxy_deg
+        return Err(invalid(Invalid::range(
+            "plane_theta_zxy_deg",
+            p.plane_theta_zxy_deg,
+            "(-90, 90)",
         )));
     }
     if p.followers_max < 1 {
-        return Err(invalid(
-            "followers_max = 0 is out of range (allowed: >= 1)".into(),
-        ));
+        return Err(invalid(Invalid::keys(
+            "followers_max",
+            "followers_max = 0 is out of range (allowed: >= 1)",
+            "",
+        )));
     }
     Ok(())
 }
@@ -324,15 +324,18 @@ fn check_target_amplitude(d: &Derived, p: &J2DistanceParameters) -> Result<(), L
     if target.is_finite() && target > p.min_amplitude_m {
         Ok(())
     } else {
-        Err(LawError::InvalidParameters {
-            law: "j2-distance".into(),
-            message: format!(
-                "plane_theta_p_deg, plane_theta_zxy_deg and average_distance_m give a target amplitude \
-                 of {target} m, not above min_amplitude_m = {} m (allowed: a target amplitude > \
-                 min_amplitude_m)",
-                p.min_amplitude_m
+        Err(LawError::invalid(
+            "j2-distance",
+            Invalid::new(
+                "min_amplitude_m",
+                format!("{} m", p.min_amplitude_m),
+                format!(
+                    "is not below the target amplitude {target} m that plane_theta_p_deg, \
+                     plane_theta_zxy_deg and average_distance_m give"
+                ),
+                "a target amplitude > min_amplitude_m",
             ),
-        })
+        ))
     }
 }
 

@@ -32,6 +32,7 @@ pub mod potentials;
 pub mod switching;
 pub mod thrust;
 
+use crate::invalid::Invalid;
 use nalgebra::{Vector2, Vector3};
 use serde::Serialize;
 
@@ -244,19 +245,23 @@ impl Pigeon {
 
     fn check_against(p: &PigeonParameters, started: &SwarmFacts) -> Result<(), LawError> {
         if p.hierarchical_range_m > started.sensing_range_m {
-            return Err(invalid(format!(
-                "hierarchical_range_m = {} m exceeds the sensing range {} m: the hierarchical \
+            return Err(invalid(Invalid::keys(
+                "hierarchical_range_m",
+                format!(
+                    "hierarchical_range_m = {} m exceeds the sensing range {} m: the hierarchical \
                  pattern links every satellite within R_c^2 (allowed: hierarchical_range_m <= \
                  sensing.range_m)",
-                p.hierarchical_range_m, started.sensing_range_m
+                    p.hierarchical_range_m, started.sensing_range_m
+                ),
+                "",
             )));
         }
         if let Some(&bad) = p.dominant.iter().find(|&&d| d >= started.count) {
-            return Err(invalid(format!(
+            return Err(invalid(Invalid::keys("dominant", format!(
                 "dominant lists satellite {bad} but the swarm has {} satellites (allowed: 0 ..= {})",
                 started.count,
                 started.count.saturating_sub(1)
-            )));
+            ), "")));
         }
         Ok(())
     }

@@ -7,6 +7,7 @@
 //! Frames: `target_hill_m` is in the Hill frame (x radial out, y along-track, z orbit normal) relative to
 //! the LVLH origin; every range is a 2-D distance in the y–z plane (the law's "pigeon" plane).
 
+use crate::invalid::Invalid;
 use serde::{Deserialize, Serialize};
 
 use crate::swarm::LawError;
@@ -184,9 +185,10 @@ impl PigeonParameters {
             if ok {
                 Ok(())
             } else {
-                Err(invalid(format!(
-                    "{key} = {v} is out of range (allowed: finite, {} {min})",
-                    if strict { ">" } else { ">=" }
+                Err(invalid(Invalid::range(
+                    key,
+                    v,
+                    format!("finite, {} {min}", if strict { ">" } else { ">=" }),
                 )))
             }
         };
@@ -199,10 +201,13 @@ impl PigeonParameters {
         )?;
         range("link_delay_m", self.link_delay_m, 0.0, true)?;
         if self.link_delay_m >= self.egalitarian_range_m {
-            return Err(invalid(format!(
-                "link_delay_m = {} is out of range (allowed: 0 < link_delay_m < \
-                 egalitarian_range_m = {})",
-                self.link_delay_m, self.egalitarian_range_m
+            return Err(invalid(Invalid::range(
+                "link_delay_m",
+                self.link_delay_m,
+                format!(
+                    "0 < link_delay_m < egalitarian_range_m = {}",
+                    self.egalitarian_range_m
+                ),
             )));
         }
         range("min_separation_m", self.min_separation_m, 0.0, true)?;
@@ -213,10 +218,13 @@ impl PigeonParameters {
             true,
         )?;
         if self.desired_separation_m >= self.egalitarian_range_m {
-            return Err(invalid(format!(
-                "desired_separation_m = {} is out of range (allowed: min_separation_m < \
-                 desired_separation_m < egalitarian_range_m = {})",
-                self.desired_separation_m, self.egalitarian_range_m
+            return Err(invalid(Invalid::range(
+                "desired_separation_m",
+                self.desired_separation_m,
+                format!(
+                    "min_separation_m < desired_separation_m < egalitarian_range_m = {}",
+                    self.egalitarian_range_m
+                ),
             )));
         }
         range("target_zone_m", self.target_zone_m, 0.0, false)?;
@@ -243,27 +251,32 @@ impl PigeonParameters {
             false,
         )?;
         if self.target_hill_m.iter().any(|v| !v.is_finite()) {
-            return Err(invalid(format!(
-                "target_hill_m = {:?} is out of range (allowed: finite)",
-                self.target_hill_m
+            return Err(invalid(Invalid::keys(
+                "target_hill_m",
+                format!(
+                    "target_hill_m = {:?} is out of range (allowed: finite)",
+                    self.target_hill_m
+                ),
+                "",
             )));
         }
         let mut sorted = self.dominant.clone();
         sorted.sort_unstable();
         sorted.dedup();
         if sorted.len() != self.dominant.len() {
-            return Err(invalid(format!(
-                "dominant = {:?} lists a satellite twice (allowed: distinct 0-based indices)",
-                self.dominant
+            return Err(invalid(Invalid::keys(
+                "dominant",
+                format!(
+                    "dominant = {:?} lists a satellite twice (allowed: distinct 0-based indices)",
+                    self.dominant
+                ),
+                "",
             )));
         }
         Ok(())
     }
 }
 
-pub(super) fn invalid(message: String) -> LawError {
-    LawError::InvalidParameters {
-        law: "pigeon".into(),
-        message,
-    }
+pub(super) fn invalid(invalid: Invalid) -> LawError {
+    LawError::invalid("pigeon", invalid)
 }

@@ -67,13 +67,15 @@ pub enum CommandKind {
 #[derive(Debug, Error, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum LawError {
-    /// A parameter is missing, unknown, of the wrong type or out of range.
-    #[error("law `{law}`: {message}")]
+    /// A parameter is missing, unknown, of the wrong type or out of range: the one typed error of
+    /// the scenario layer ([`crate::invalid::Invalid`]: the key in the law's table, the value, what is
+    /// allowed).
+    #[error("law `{law}`: {invalid}")]
     InvalidParameters {
         /// The law's registry name.
         law: String,
-        /// What is wrong and what is allowed.
-        message: String,
+        /// The key, the value and what is allowed.
+        invalid: crate::invalid::Invalid,
     },
     /// Parameters of another law's type were handed to this law.
     #[error("law `{law}` takes parameters of type `{expected}`")]
@@ -95,6 +97,16 @@ pub enum LawError {
         /// What went wrong.
         message: String,
     },
+}
+
+impl LawError {
+    /// The law `law` refuses a parameter: `invalid` names it, its value and what is allowed.
+    pub fn invalid(law: &str, invalid: crate::invalid::Invalid) -> Self {
+        Self::InvalidParameters {
+            law: law.to_string(),
+            invalid,
+        }
+    }
 }
 
 /// A guidance law's core: maps what one satellite senses, and its own state, to its command. A law
