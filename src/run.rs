@@ -58,6 +58,7 @@ pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
 /// ([`crate::scenario::Prepared::replace_law`]). The simulation records the control history when the
 /// scenario asks for it (`[output] control_history`).
 pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulation, RunError> {
+    let threshold_m = prepared.conjunction_threshold_m;
     let mut simulation = Simulation::new(
         prepared.config,
         &prepared.satellites,
@@ -65,8 +66,27 @@ pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulat
         prepared.events,
     )
     .map_err(|e| setup_error(scenario, e))?;
-    simulation.set_control_history(scenario.file.output.control_history);
+    configure(scenario, &mut simulation, threshold_m)?;
     Ok(simulation)
+}
+
+/// What a simulation takes from the scenario beyond its configuration: the control history
+/// (`[output] control_history`) and the conjunction monitor (`[conjunctions] threshold_m`, validated).
+fn configure(
+    scenario: &Scenario,
+    simulation: &mut Simulation,
+    conjunction_threshold_m: Option<f64>,
+) -> Result<(), RunError> {
+    simulation.set_control_history(scenario.file.output.control_history);
+    simulation
+        .set_conjunction_threshold_m(conjunction_threshold_m)
+        .map_err(|e| {
+            RunError::Scenario(ScenarioError::Invalid {
+                file: scenario.sources(),
+                key: "conjunctions.threshold_m".into(),
+                message: e.to_string(),
+            })
+        })
 }
 
 /// A refusal of the engine's setup (after validation) is the scenario's fault: it becomes a
@@ -280,6 +300,7 @@ pub fn run_prepared(
 ) -> Result<RunSummary, RunError> {
     let budget_mps = check_output_keys(scenario)?;
     let n = prepared.satellites.len();
+    let conjunction_threshold_m = prepared.conjunction_threshold_m;
     let mut metadata: BTreeMap<String, String> = prepared.tags.clone();
     metadata.insert("satflock_version".into(), env!("CARGO_PKG_VERSION").into());
     metadata.insert(
@@ -307,7 +328,7 @@ pub fn run_prepared(
         prepared.events,
     )
     .map_err(|e| setup_error(scenario, e))?;
-    simulation.set_control_history(scenario.file.output.control_history);
+    configure(scenario, &mut simulation, conjunction_threshold_m)?;
     if let Some(flag) = &options.cancel {
         simulation.set_cancel_flag(flag.clone());
     }

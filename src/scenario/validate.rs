@@ -16,8 +16,9 @@ use crate::orbit::{
 use crate::relative::{Hcw, SchweighartSedwick};
 use crate::scenario::initial;
 use crate::scenario::schema::{
-    ActionSection, AxisName, ControlMode, InitialSection, ListFrame, ModelName, ObstacleSection,
-    OriginName, PerSatellite, SatellitesSection, SelectionSection, ThreatSection,
+    ActionSection, AxisName, ConjunctionsSection, ControlMode, InitialSection, ListFrame,
+    ModelName, ObstacleSection, OriginName, PerSatellite, SatellitesSection, SelectionSection,
+    ThreatSection,
 };
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
@@ -85,6 +86,9 @@ pub struct Prepared {
     pub events: Vec<Event>,
     /// Whether to write the trajectory file.
     pub write_trajectory: bool,
+    /// The conjunction threshold of `[conjunctions] threshold_m` \[m\] (`None`: no conjunction
+    /// monitor).
+    pub conjunction_threshold_m: Option<f64>,
     /// Extra metadata for the summary.
     pub tags: std::collections::BTreeMap<String, String>,
     /// The instant of t = 0.
@@ -709,10 +713,21 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         law,
         events,
         write_trajectory: f.output.trajectory,
+        conjunction_threshold_m: conjunctions(&c, f.conjunctions.as_ref())?,
         tags: f.output.tags.clone(),
         law_source: None,
         warnings,
     })
+}
+
+/// `[conjunctions]`: the threshold \[m\] (finite, >= 0), or `None` without the section.
+fn conjunctions(
+    c: &Checker<'_>,
+    section: Option<&ConjunctionsSection>,
+) -> Result<Option<f64>, ScenarioError> {
+    section
+        .map(|s| c.non_negative("conjunctions.threshold_m", s.threshold_m))
+        .transpose()
 }
 
 /// The load-time warnings about the scenario's `[law]` at t = 0 (see [`Prepared::warnings`]): for the
