@@ -11,7 +11,7 @@ use thiserror::Error;
 
 use crate::output::oem::{self, OemLayout};
 use crate::output::summary::{DynamicsSummary, EnvironmentSummary, FinalState, Frames};
-use crate::output::{czml, frames, ExportError, RunData};
+use crate::output::{cdm, conjunctions, czml, frames, ExportError, RunData};
 use crate::output::{
     DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
     Scene, TableFormats,
@@ -122,6 +122,8 @@ pub const RUN_FILES: &[&str] = &[
     "metrics.parquet",
     "trajectory.parquet",
     "scene.json",
+    "conjunctions.csv",
+    "conjunctions.parquet",
     "scenario.toml",
     "report.html",
     oem::RUN_FILE,
@@ -132,8 +134,11 @@ pub const RUN_FILES: &[&str] = &[
 /// (the figures `satflock run` and `satflock plot` draw) and [`oem::RUN_DIR_NAME`] (per-satellite OEM
 /// files of `satflock export oem --per-satellite`). [`prepare_output_dir`] removes them with the
 /// [`RUN_FILES`].
-pub const RUN_DIRS: &[(&str, &[&str])] =
-    &[("plots", &["png", "svg"]), (oem::RUN_DIR_NAME, &["oem"])];
+pub const RUN_DIRS: &[(&str, &[&str])] = &[
+    ("plots", &["png", "svg"]),
+    (oem::RUN_DIR_NAME, &["oem"]),
+    (cdm::RUN_DIR_NAME, &["cdm"]),
+];
 
 /// How a run is driven beyond its scenario.
 #[derive(Clone, Debug, Default)]
@@ -376,6 +381,14 @@ pub fn run_prepared(
         (outcome, Ok(())) => outcome,
     };
 
+    // The conjunctions found, however the run ended (a run stopped early has those up to its end).
+    let outcome = match (
+        outcome,
+        write_conjunctions(&simulation, out_dir, &context, options, scenario),
+    ) {
+        (Ok(_), Err(e)) => Err(SimError::Recording(std::io::Error::other(e.to_string()))),
+        (outcome, _) => outcome,
+    };
     let error = outcome.as_ref().err().map(|e| e as &dyn ErrorText);
     let law_results = simulation.law_results();
     let summary = context.summary(&simulation, law_results, error, wall_time_s);
@@ -398,6 +411,52 @@ pub fn run_prepared(
         write_oem(out_dir)?;
     }
     Ok(summary)
+}
+
+/// The encounters sorted by (TCA, primary, secondary): the order of the table and the summary.
+fn sorted_encounters(
+    encounters: &[crate::conjunction::Encounter],
+) -> Vec<crate::conjunction::Encounter> {
+    let mut sorted = encounters.to_vec();
+    sorted.sort_by(|x, y| {
+        x.tca_s
+            .total_cmp(&y.tca_s)
+            .then(x.primary.cmp(&y.primary))
+            .then(x.secondary.cmp(&y.secondary))
+    });
+    sorted
+}
+
+/// Writes `conjunctions.csv` or `.parquet` (the metrics table's format) when the run monitors
+/// conjunctions.
+fn write_conjunctions(
+    simulation: &Simulation,
+    out_dir: &Path,
+    context: &SummaryContext,
+    options: &RunOptions,
+    scenario: &Scenario,
+) -> Result<(), ExportError> {
+    let Some(monitor) = simulation.conjunction_monitor() else {
+        return Ok(());
+    };
+    let format = TableFormats::choose(
+        options.format.or(scenario.file.output.format),
+        simulation.satellite_count(),
+        false,
+    )
+    .metrics;
+    let run = RunMetadata {
+        scenario: context.scenario.clone(),
+        seed: context.seed,
+        epoch: context.epoch,
+    };
+    conjunctions::write_table(
+        out_dir,
+        format,
+        &sorted_encounters(monitor.encounters()),
+        &run,
+    )?;
+    Ok(())
 }
 
 /// What the summary states about a run besides the simulation's own numbers.
@@ -525,6 +584,14 @@ impl SummaryContext {
                     )
                 })
             },
+            conjunctions: simulation.conjunction_monitor().map(|m| {
+                crate::output::summary::ConjunctionSummary::new(
+                    m.threshold_m(),
+                    &sorted_encounters(m.encounters()),
+                    simulation.config().sensing.position_noise_m,
+                    simulation.config().sensing.velocity_noise_mps,
+                )
+            }),
             law: law_results,
             metadata: self.metadata.clone(),
         }
@@ -649,10 +716,11 @@ fn write_inputs(
 /// `[output] oem = true`: writes `swarm.oem` from the finished run's directory.
 fn write_oem(out_dir: &Path) -> Result<(), RunError> {
     let fail = |path: String, message: String| RunError::Output { path, message };
-    let file = out_dir.join(oem::RUN_FILE);
+    let file = out_dir.join(oem::RUN_DIR_NAME);
     let creation = oem::creation_date().map_err(|m| fail(file.display().to_string(), m))?;
     let run = RunData::read(out_dir).map_err(|e| fail(e.path, e.message))?;
-    match oem::write_run_oem(&run, &OemLayout::OneFile(file.clone()), creation) {
+    let layout = OemLayout::in_run_dir(out_dir, false);
+    match oem::write_run_oem(&run, &layout, creation, oem::OemVersion::V2) {
         Ok(_) => Ok(()),
         Err(ExportError::Input(e)) => Err(fail(e.path, e.message)),
         Err(ExportError::Output { path, message }) => Err(fail(path, message)),

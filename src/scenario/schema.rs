@@ -602,7 +602,8 @@ pub struct OutputSection {
     /// sizes are refused as a likely unit mistake).
     #[serde(default)]
     pub allow_large: bool,
-    /// Write `swarm.oem` (CCSDS OEM 2.0 of every satellite's inertial states, from `trajectory.csv`)
+    /// Write `oem/sat-NNNNN.oem` (CCSDS OEM 2.0 of each satellite's inertial states, one file per
+    /// satellite, from the trajectory)
     /// after a completed run (default false; needs `trajectory = true`).
     #[serde(default)]
     pub oem: bool,
