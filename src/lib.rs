@@ -37,6 +37,7 @@
 
 pub mod budget;
 pub mod campaign;
+pub mod conjunction;
 pub mod dynamics;
 pub mod environment;
 pub mod grid;

@@ -11,7 +11,7 @@ use thiserror::Error;
 
 use crate::output::oem::{self, OemLayout};
 use crate::output::summary::{DynamicsSummary, EnvironmentSummary, FinalState, Frames};
-use crate::output::{czml, frames, ExportError, RunData};
+use crate::output::{cdm, conjunctions, czml, frames, ExportError, RunData};
 use crate::output::{
     DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
     Scene, TableFormats,
@@ -58,6 +58,7 @@ pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
 /// ([`crate::scenario::Prepared::replace_law`]). The simulation records the control history when the
 /// scenario asks for it (`[output] control_history`).
 pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulation, RunError> {
+    let threshold_m = prepared.conjunction_threshold_m;
     let mut simulation = Simulation::new(
         prepared.config,
         &prepared.satellites,
@@ -65,8 +66,26 @@ pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulat
         prepared.events,
     )
     .map_err(|e| setup_error(scenario, e))?;
-    simulation.set_control_history(scenario.file.output.control_history);
+    configure(scenario, &mut simulation, threshold_m)?;
     Ok(simulation)
+}
+
+/// What a simulation takes from the scenario beyond its configuration: the control history
+/// (`[output] control_history`) and the conjunction monitor (`[conjunctions] threshold_m`, validated).
+fn configure(
+    scenario: &Scenario,
+    simulation: &mut Simulation,
+    conjunction_threshold_m: Option<f64>,
+) -> Result<(), RunError> {
+    simulation.set_control_history(scenario.file.output.control_history);
+    simulation
+        .set_conjunction_threshold_m(conjunction_threshold_m)
+        .map_err(|e| {
+            RunError::Scenario(ScenarioError::invalid(
+                &scenario.sources(),
+                crate::invalid::Invalid::keys("conjunctions.threshold_m", e.to_string(), ""),
+            ))
+        })
 }
 
 /// A refusal of the engine's setup (after validation) is the scenario's fault: it becomes a
@@ -101,6 +120,8 @@ pub const RUN_FILES: &[&str] = &[
     "metrics.parquet",
     "trajectory.parquet",
     "scene.json",
+    "conjunctions.csv",
+    "conjunctions.parquet",
     "scenario.toml",
     "report.html",
     oem::RUN_FILE,
@@ -111,8 +132,11 @@ pub const RUN_FILES: &[&str] = &[
 /// (the figures `satflock run` and `satflock plot` draw) and [`oem::RUN_DIR_NAME`] (per-satellite OEM
 /// files of `satflock export oem --per-satellite`). [`prepare_output_dir`] removes them with the
 /// [`RUN_FILES`].
-pub const RUN_DIRS: &[(&str, &[&str])] =
-    &[("plots", &["png", "svg"]), (oem::RUN_DIR_NAME, &["oem"])];
+pub const RUN_DIRS: &[(&str, &[&str])] = &[
+    ("plots", &["png", "svg"]),
+    (oem::RUN_DIR_NAME, &["oem"]),
+    (cdm::RUN_DIR_NAME, &["cdm"]),
+];
 
 /// How a run is driven beyond its scenario.
 #[derive(Clone, Debug, Default)]
@@ -278,6 +302,7 @@ pub fn run_prepared(
 ) -> Result<RunSummary, RunError> {
     let budget_mps = check_output_keys(scenario)?;
     let n = prepared.satellites.len();
+    let conjunction_threshold_m = prepared.conjunction_threshold_m;
     let mut metadata: BTreeMap<String, String> = prepared.tags.clone();
     metadata.insert("satflock_version".into(), env!("CARGO_PKG_VERSION").into());
     metadata.insert(
@@ -305,7 +330,7 @@ pub fn run_prepared(
         prepared.events,
     )
     .map_err(|e| setup_error(scenario, e))?;
-    simulation.set_control_history(scenario.file.output.control_history);
+    configure(scenario, &mut simulation, conjunction_threshold_m)?;
     if let Some(flag) = &options.cancel {
         simulation.set_cancel_flag(flag.clone());
     }
@@ -353,6 +378,14 @@ pub fn run_prepared(
         (outcome, Ok(())) => outcome,
     };
 
+    // The conjunctions found, however the run ended (a run stopped early has those up to its end).
+    let outcome = match (
+        outcome,
+        write_conjunctions(&simulation, out_dir, &context, options, scenario),
+    ) {
+        (Ok(_), Err(e)) => Err(SimError::Recording(std::io::Error::other(e.to_string()))),
+        (outcome, _) => outcome,
+    };
     let error = outcome.as_ref().err().map(|e| e as &dyn ErrorText);
     let law_results = simulation.law_results();
     let summary = context.summary(&simulation, law_results, error, wall_time_s);
@@ -375,6 +408,52 @@ pub fn run_prepared(
         write_oem(out_dir)?;
     }
     Ok(summary)
+}
+
+/// The encounters sorted by (TCA, primary, secondary): the order of the table and the summary.
+fn sorted_encounters(
+    encounters: &[crate::conjunction::Encounter],
+) -> Vec<crate::conjunction::Encounter> {
+    let mut sorted = encounters.to_vec();
+    sorted.sort_by(|x, y| {
+        x.tca_s
+            .total_cmp(&y.tca_s)
+            .then(x.primary.cmp(&y.primary))
+            .then(x.secondary.cmp(&y.secondary))
+    });
+    sorted
+}
+
+/// Writes `conjunctions.csv` or `.parquet` (the metrics table's format) when the run monitors
+/// conjunctions.
+fn write_conjunctions(
+    simulation: &Simulation,
+    out_dir: &Path,
+    context: &SummaryContext,
+    options: &RunOptions,
+    scenario: &Scenario,
+) -> Result<(), ExportError> {
+    let Some(monitor) = simulation.conjunction_monitor() else {
+        return Ok(());
+    };
+    let format = TableFormats::choose(
+        options.format.or(scenario.file.output.format),
+        simulation.satellite_count(),
+        false,
+    )
+    .metrics;
+    let run = RunMetadata {
+        scenario: context.scenario.clone(),
+        seed: context.seed,
+        epoch: context.epoch,
+    };
+    conjunctions::write_table(
+        out_dir,
+        format,
+        &sorted_encounters(monitor.encounters()),
+        &run,
+    )?;
+    Ok(())
 }
 
 /// What the summary states about a run besides the simulation's own numbers.
@@ -502,6 +581,14 @@ impl SummaryContext {
                     )
                 })
             },
+            conjunctions: simulation.conjunction_monitor().map(|m| {
+                crate::output::summary::ConjunctionSummary::new(
+                    m.threshold_m(),
+                    &sorted_encounters(m.encounters()),
+                    simulation.config().sensing.position_noise_m,
+                    simulation.config().sensing.velocity_noise_mps,
+                )
+            }),
             law: law_results,
             metadata: self.metadata.clone(),
         }
@@ -626,10 +713,11 @@ fn write_inputs(
 /// `[output] oem = true`: writes `swarm.oem` from the finished run's directory.
 fn write_oem(out_dir: &Path) -> Result<(), RunError> {
     let fail = |path: String, message: String| RunError::Output { path, message };
-    let file = out_dir.join(oem::RUN_FILE);
+    let file = out_dir.join(oem::RUN_DIR_NAME);
     let creation = oem::creation_date().map_err(|m| fail(file.display().to_string(), m))?;
     let run = RunData::read(out_dir).map_err(|e| fail(e.path, e.message))?;
-    match oem::write_run_oem(&run, &OemLayout::OneFile(file.clone()), creation) {
+    let layout = OemLayout::in_run_dir(out_dir, false);
+    match oem::write_run_oem(&run, &layout, creation, oem::OemVersion::V2) {
         Ok(_) => Ok(()),
         Err(ExportError::Input(e)) => Err(fail(e.path, e.message)),
         Err(ExportError::Output { path, message }) => Err(fail(path, message)),

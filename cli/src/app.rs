@@ -166,7 +166,8 @@ enum Command {
     /// magnitude for deciding what to neglect; see docs/dynamics.md).
     #[command(allow_negative_numbers = true)]
     Budget(budget::BudgetArgs),
-    /// Export a run directory's trajectory: `oem` (CCSDS OEM 2.0) or `czml` (CesiumJS).
+    /// Export a run directory: its trajectory as `oem` (CCSDS OEM, one file per satellite) or `czml`
+    /// (CesiumJS), its conjunctions as `cdm` (CCSDS CDM, one file per encounter).
     Export {
         #[command(subcommand)]
         format: export::ExportCommand,
@@ -1017,6 +1018,8 @@ fn propagate_command(args: &PropagateArgs) -> Result<()> {
                 id: "SATFLOCK-PROPAGATE".into(),
                 track: &inertial,
             }],
+            version: oem::OemVersion::V2,
+            message_id: String::new(),
         };
         write_whole(path, message.to_kvn().as_bytes())?;
         written.push_str(&format!(" and {} (OEM)", path.display()));

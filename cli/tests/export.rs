@@ -201,7 +201,18 @@ fn assert_states_match(segment: &Segment, rows: &[Row]) {
 fn val_oem_of_a_run_has_the_standard_keywords_in_order_and_the_csv_states_in_km() {
     let dir = temp_dir("oem");
     let out = run(&dir, "\n[output]\noem = true\n");
+    // `[output] oem` writes one file per satellite; the single multi-object file (not CCSDS-compliant)
+    // only when asked for.
+    assert!(out.join("oem").join("sat-00000.oem").exists() && !out.join("swarm.oem").exists());
+    let o = ok(bin()
+        .args(["export", "oem"])
+        .arg(&out)
+        .arg("--single-file")
+        .output()
+        .unwrap());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("6 satellites"));
     let text = std::fs::read_to_string(out.join("swarm.oem")).unwrap();
+    assert!(text.contains("NOT CCSDS-COMPLIANT"));
     assert!(text.starts_with("CCSDS_OEM_VERS = 2.0\n"));
     let (header, segments) = parse_oem(&text);
     assert_eq!(keys(&header), HEADER_KEYS);
@@ -239,14 +250,18 @@ fn val_oem_of_a_run_has_the_standard_keywords_in_order_and_the_csv_states_in_km(
     // The frame is said in words.
     assert!(text.contains("COMMENT Reference frame: EME2000"));
 
-    // Per satellite: one file and one segment each, the same states.
-    let o = ok(bin()
+    // Per satellite (the default): one file and one segment each, the same states; version 3.0 adds a
+    // MESSAGE_ID to the header.
+    ok(bin()
         .args(["export", "oem"])
         .arg(&out)
-        .arg("--per-satellite")
+        .args(["--oem-version", "3.0", "--out"])
+        .arg(dir.join("v3"))
         .output()
         .unwrap());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("6 satellites"));
+    let v3 = std::fs::read_to_string(dir.join("v3").join("sat-00001.oem")).unwrap();
+    assert!(v3.starts_with("CCSDS_OEM_VERS = 3.0\n"));
+    assert!(v3.contains("\nMESSAGE_ID = SATFLOCK-"));
     for (id, rows) in &rows {
         let text =
             std::fs::read_to_string(out.join("oem").join(format!("sat-{id:05}.oem"))).unwrap();
@@ -265,8 +280,8 @@ fn val_oem_of_a_run_has_the_standard_keywords_in_order_and_the_csv_states_in_km(
         .arg("--quiet")
         .output()
         .unwrap());
-    assert!(!out.join("oem").exists() && !out.join("swarm.czml").exists());
-    assert!(out.join("swarm.oem").exists());
+    assert!(!out.join("swarm.oem").exists() && !out.join("swarm.czml").exists());
+    assert!(out.join("oem").join("sat-00000.oem").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

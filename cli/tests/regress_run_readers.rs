@@ -270,8 +270,13 @@ fn regress_export_never_writes_over_the_run_it_reads() {
         ("oem", dotted.clone()),
         ("czml", run.join("metrics.csv")),
     ] {
+        let single = if format == "oem" {
+            "--single-file"
+        } else {
+            "--paths"
+        };
         let o = satflock()
-            .args(["export", format])
+            .args(["export", format, single])
             .arg(&run)
             .arg("--out")
             .arg(&out)
@@ -296,7 +301,7 @@ fn regress_export_never_writes_over_the_run_it_reads() {
     assert!(before == after, "the run's files changed");
     // Any other path is written.
     let o = satflock()
-        .args(["export", "oem"])
+        .args(["export", "oem", "--single-file"])
         .arg(&run)
         .arg("--out")
         .arg(dir.join("swarm.oem"))

@@ -128,9 +128,16 @@ impl HermiteSegment {
 
     /// Interpolated velocity (derivative of the interpolant) at time `t_s` (s), Hill frame (m/s).
     pub fn velocity_hill_mps(&self, t_s: f64) -> Vector3<f64> {
-        let a = self.power_basis();
         let s = (t_s - self.t0_s) / self.duration_s();
-        ((a[3] * (3.0 * s) + a[2] * 2.0) * s + a[1]) / self.duration_s()
+        eval_cubic_derivative(&self.power_basis(), s) / self.duration_s()
+    }
+
+    /// A bound (m) on the distance of every interpolated position of the segment from its end
+    /// position, `|a1| + |a2| + |a3|` of the power basis (`p(s) − p(1) = a1 (s − 1) + a2 (s² − 1) +
+    /// a3 (s³ − 1)` and `|sᵏ − 1| ≤ 1` on `[0, 1]`).
+    pub(crate) fn sweep_bound_m(&self) -> f64 {
+        let a = self.power_basis();
+        a[1].norm() + a[2].norm() + a[3].norm()
     }
 
     /// Time (s) of the normalised time `s ∈ [0, 1]`, exactly `t0_s` at 0 and `t1_s` at 1.
@@ -149,6 +156,13 @@ impl HermiteSegment {
             (p1 - p0) * 3.0 - hv0 * 2.0 - hv1,
             (p0 - p1) * 2.0 + hv0 + hv1,
         ]
+    }
+
+    /// Coefficients `[c0, c1, c2, c3]` (m) of `d(s) = other(s) − segment(s)` in `s = (t − t0) / h`,
+    /// for two segments over the same times (the relative path of `other` seen from `self`).
+    pub(crate) fn cubic_to(&self, other: &HermiteSegment) -> [Vector3<f64>; 4] {
+        let (a, b) = (self.power_basis(), other.power_basis());
+        [b[0] - a[0], b[1] - a[1], b[2] - a[2], b[3] - a[3]]
     }
 
     /// Coefficients `[c0, c1, c2, c3]` (m) of `d(s) = segment(s) − line(s)` in `s = (t − t0) / h`.
@@ -231,6 +245,11 @@ pub(crate) struct Scan {
 }
 
 impl Scan {
+    /// Normalised times `s ∈ [0, 1]` of the break points, ascending.
+    pub(crate) fn points_s(&self) -> &[f64] {
+        &self.s[..self.len]
+    }
+
     /// Distances (m) at the break points, in order of `s`.
     pub(crate) fn distances_m(&self) -> &[f64] {
         &self.distance_m[..self.len]
@@ -255,7 +274,7 @@ impl Scan {
 }
 
 /// `d(s)` by Horner's rule, per component.
-fn eval_cubic(c: &[Vector3<f64>; 4], s: f64) -> Vector3<f64> {
+pub(crate) fn eval_cubic(c: &[Vector3<f64>; 4], s: f64) -> Vector3<f64> {
     ((c[3] * s + c[2]) * s + c[1]) * s + c[0]
 }
 
@@ -269,6 +288,11 @@ fn chord_minimiser(c: &[Vector3<f64>; 4]) -> f64 {
     } else {
         0.0
     }
+}
+
+/// `d'(s)` (m per unit of `s`), per component.
+pub(crate) fn eval_cubic_derivative(c: &[Vector3<f64>; 4], s: f64) -> Vector3<f64> {
+    (c[3] * (3.0 * s) + c[2] * 2.0) * s + c[1]
 }
 
 /// A lower bound (m) on `min over s ∈ [0, 1] of |d(s)|`, from the chord: `d(s) = c0 + e s + r(s)` with

@@ -5,7 +5,7 @@ use nalgebra::Vector3;
 
 /// Position and velocity of a satellite in the Earth-centred inertial frame (ECI; the realisation,
 /// e.g. GCRF/J2000, is the caller's choice, the z axis is the Earth's polar axis).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct CartesianState {
     /// Position relative to the Earth's centre, ECI \[m\].
     pub position_m: Vector3<f64>,

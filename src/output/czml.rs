@@ -279,6 +279,7 @@ mod tests {
             metrics: Table::default(),
             trajectory: Some(Table::new(names, columns)),
             scene: Default::default(),
+            conjunctions: None,
             n_satellites: n,
             trajectory_path: None,
             files: Vec::new(),

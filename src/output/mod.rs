@@ -4,7 +4,9 @@
 //! (`scene.json`), the reader of a run directory, and the exports made from it: CCSDS OEM (`oem`) and
 //! CZML (`czml`).
 
+pub mod cdm;
 pub mod columns;
+pub mod conjunctions;
 pub mod csv_recorder;
 pub mod czml;
 pub mod export;

@@ -1,6 +1,10 @@
 //! CCSDS Orbit Ephemeris Message (OEM) version 2.0 in keyword = value notation (KVN), the ephemeris
 //! format of CCSDS 502.0-B-2 that GMAT, Orekit, STK and most flight-dynamics tools read.
 //!
+//! One object per file by default (the standard's rule, 502.0-B-2 §5.1.3); a single file with a
+//! segment per satellite only when asked for ([`OemLayout::OneFile`], not compliant). Version 2.0 by
+//! default, 3.0 (502.0-B-3: a `MESSAGE_ID` in the header) as an option ([`OemVersion`]).
+//!
 //! One segment per satellite: the header (`CCSDS_OEM_VERS`, `COMMENT`s, `CREATION_DATE`, `ORIGINATOR`),
 //! then per segment `META_START`, `COMMENT`s (the frame and the scenario), `OBJECT_NAME`, `OBJECT_ID`,
 //! `CENTER_NAME = EARTH`, `REF_FRAME = EME2000` ([`frames::INERTIAL_FRAME`]), `TIME_SYSTEM = UTC`,
@@ -26,8 +30,28 @@ use super::frames;
 use super::run_data::RunData;
 use crate::time::{self, Epoch};
 
-/// `CCSDS_OEM_VERS`.
+/// `CCSDS_OEM_VERS` of the default version.
 pub const OEM_VERSION: &str = "2.0";
+
+/// Which OEM version a message is written in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OemVersion {
+    /// CCSDS 502.0-B-2, `CCSDS_OEM_VERS = 2.0` (the default: the version most tools read).
+    #[default]
+    V2,
+    /// CCSDS 502.0-B-3, `CCSDS_OEM_VERS = 3.0`: the same body, and a `MESSAGE_ID` in the header.
+    V3,
+}
+
+impl OemVersion {
+    /// The `CCSDS_OEM_VERS` value.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            OemVersion::V2 => OEM_VERSION,
+            OemVersion::V3 => "3.0",
+        }
+    }
+}
 
 /// `ORIGINATOR`.
 pub const ORIGINATOR: &str = "satflock";
@@ -80,6 +104,10 @@ pub struct OemMessage<'a> {
     pub segment_comments: Vec<String>,
     /// One segment each.
     pub objects: Vec<OemObject<'a>>,
+    /// The version written.
+    pub version: OemVersion,
+    /// `MESSAGE_ID` (written in version 3.0).
+    pub message_id: String,
 }
 
 /// `OBJECT_NAME` and `OBJECT_ID` of satellite `id` of a run: `SAT-00007` and `SATFLOCK-00007`.
@@ -145,7 +173,7 @@ impl OemMessage<'_> {
     /// The message as KVN text. Segments with no state are left out.
     pub fn to_kvn(&self) -> String {
         let mut out = String::new();
-        let _ = writeln!(out, "CCSDS_OEM_VERS = {OEM_VERSION}");
+        let _ = writeln!(out, "CCSDS_OEM_VERS = {}", self.version.keyword());
         for c in &self.header_comments {
             push_comment(&mut out, c);
         }
@@ -155,6 +183,9 @@ impl OemMessage<'_> {
             time::ccsds_utc(self.creation_date)
         );
         let _ = writeln!(out, "ORIGINATOR = {ORIGINATOR}");
+        if self.version == OemVersion::V3 {
+            let _ = writeln!(out, "MESSAGE_ID = {}", self.message_id);
+        }
         let at = |t_s: f64| time::ccsds_utc(time::at(self.epoch, t_s));
         for object in &self.objects {
             let track = object.track;
@@ -209,19 +240,22 @@ impl OemMessage<'_> {
 /// Where [`write_run_oem`] writes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum OemLayout {
-    /// One file, one segment per satellite.
+    /// One file, one segment per satellite: not CCSDS-compliant for more than one satellite
+    /// (502.0-B-2 and -B-3 define an OEM for a single object; readers that enforce it refuse it).
     OneFile(PathBuf),
-    /// One file per satellite, `sat-NNNNN.oem`, in this directory (created if needed).
+    /// One file per satellite, `sat-NNNNN.oem`, in this directory (created if needed): the standard
+    /// layout, and the default.
     PerSatellite(PathBuf),
 }
 
 impl OemLayout {
-    /// The default layout in a run directory: `RUN_DIR/swarm.oem`, or `RUN_DIR/oem/` per satellite.
-    pub fn in_run_dir(run_dir: &Path, per_satellite: bool) -> Self {
-        if per_satellite {
-            Self::PerSatellite(run_dir.join(RUN_DIR_NAME))
-        } else {
+    /// The layout in a run directory: `RUN_DIR/oem/` per satellite (the default), or the
+    /// non-standard single file `RUN_DIR/swarm.oem`.
+    pub fn in_run_dir(run_dir: &Path, single_file: bool) -> Self {
+        if single_file {
             Self::OneFile(run_dir.join(RUN_FILE))
+        } else {
+            Self::PerSatellite(run_dir.join(RUN_DIR_NAME))
         }
     }
 }
@@ -232,6 +266,7 @@ pub fn write_run_oem(
     run: &RunData,
     layout: &OemLayout,
     creation_date: Epoch,
+    version: OemVersion,
 ) -> Result<(Vec<PathBuf>, usize), ExportError> {
     let tracks = run.inertial_tracks()?;
     let field = |key: &str| {
@@ -254,19 +289,27 @@ pub fn write_run_oem(
     let mut all_comments = header_comments.clone();
     if tracks.len() > 1 {
         all_comments.push(
-            "Several objects, one segment each: CCSDS 502.0-B-2 (5.1.3) defines an OEM for a single \
-             object, so readers that enforce it need one file per satellite (satflock export oem \
-             --per-satellite)."
+            "NOT CCSDS-COMPLIANT: several objects, one segment each; CCSDS 502.0-B-2 (5.1.3) and \
+             502.0-B-3 define an OEM for a single object, so readers that enforce it need one file \
+             per satellite (the default of satflock export oem; this file was asked for with \
+             --single-file)."
                 .into(),
         );
     }
     let message = |objects: Vec<OemObject<'_>>, header_comments: &[String]| {
+        let message_id = match objects.as_slice() {
+            [one] => format!("SATFLOCK-{scenario}-{}-{}", field("seed"), one.name),
+            _ => format!("SATFLOCK-{scenario}-{}-SWARM", field("seed")),
+        }
+        .replace(' ', "_");
         OemMessage {
             creation_date,
             epoch: run.epoch,
             header_comments: header_comments.to_vec(),
             segment_comments: segment_comments.clone(),
             objects,
+            version,
+            message_id,
         }
         .to_kvn()
     };
@@ -319,6 +362,8 @@ mod tests {
             header_comments: vec![],
             segment_comments: vec![],
             objects: vec![satellite_object(&track)],
+            version: OemVersion::V2,
+            message_id: String::new(),
         }
         .to_kvn();
         assert!(!text.contains("INTERPOLATION"), "{text}");

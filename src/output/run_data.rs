@@ -74,7 +74,7 @@ pub struct Table {
 }
 
 /// Columns that hold text, not numbers (left out of a [`Table`]).
-const TEXT_COLUMNS: &[&str] = &["time_utc"];
+const TEXT_COLUMNS: &[&str] = &["time_utc", "tca_utc"];
 
 impl Table {
     /// A table from its column names and columns (all of one length).
@@ -236,6 +236,40 @@ impl Table {
         Ok(Self { names, columns })
     }
 
+    /// Checks a conjunction table: every column of [`super::conjunctions`], a `tca_s` from 0 to
+    /// [`MAX_TIME_S`] and a value in every number column of every row (no time order: rows are sorted by
+    /// TCA, but a table is checked as a set of encounters).
+    pub fn check_conjunctions(&self, path: &Path) -> Result<(), RunDataError> {
+        let tca = self.required(path, "tca_s", "conjunction table")?;
+        if let Some(row) = tca.iter().position(|t| !(0.0..=MAX_TIME_S).contains(t)) {
+            return Err(RunDataError::new(
+                path,
+                format!(
+                    "{}, column `tca_s`: {} is out of range (allowed: 0 to {MAX_TIME_S:e} s)",
+                    row_name(path, row),
+                    tca[row]
+                ),
+            ));
+        }
+        for name in super::conjunctions::id_column_names()
+            .iter()
+            .chain(&super::conjunctions::value_column_names())
+        {
+            // The secondary's id columns are empty where it is of another kind.
+            if name.starts_with("secondary") && !name.contains("_eme2000_") {
+                if self.column(name).is_none() {
+                    return Err(RunDataError::new(
+                        path,
+                        format!("has no column `{name}` (a conjunction table has one)"),
+                    ));
+                }
+                continue;
+            }
+            self.required(path, name, "conjunction table")?;
+        }
+        Ok(())
+    }
+
     /// Column names, in file order.
     pub fn names(&self) -> &[String] {
         &self.names
@@ -393,6 +427,9 @@ pub struct RunData {
     pub trajectory_path: Option<PathBuf>,
     /// `scene.json`: threats, obstacles, target formation.
     pub scene: super::Scene,
+    /// `conjunctions.csv` or `conjunctions.parquet`, when the run monitored conjunctions: one row per
+    /// encounter ([`super::conjunctions`]).
+    pub conjunctions: Option<Table>,
     /// Every file read (an export must not write over one of them).
     pub files: Vec<PathBuf>,
 }
@@ -431,7 +468,17 @@ impl RunData {
         };
         let scene = super::Scene::read(dir)?;
         files.push(dir.join(super::scene::SCENE_FILE));
+        let conjunctions = match table_path(dir, super::conjunctions::TABLE)? {
+            Some(path) => {
+                let table = Table::read(&path)?;
+                table.check_conjunctions(&path)?;
+                files.push(path);
+                Some(table)
+            }
+            None => None,
+        };
         Ok(Self {
+            conjunctions,
             scene,
             dir: dir.to_path_buf(),
             summary,

@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use crate::conjunction::{Encounter, Secondary};
 use crate::environment::{Approach, ApproachMonitor, Clearance, PairMinimum};
 use crate::metrics::FiveElements;
 use crate::swarm::StageTimings;
@@ -32,6 +33,64 @@ pub struct DeltaVSummary {
     pub mean: f64,
     /// Mean ∫|a_k|dt per Hill axis (x radial, y along-track, z normal) \[m/s\].
     pub mean_per_axis_hill: [f64; 3],
+}
+
+/// The conjunctions of a run (the `conjunctions` object): the threshold, how many encounters, the
+/// closest, and each satellite's count.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ConjunctionSummary {
+    /// Miss-distance threshold \[m\].
+    pub threshold_m: f64,
+    /// Encounters found (rows of `conjunctions.csv` / `.parquet`).
+    pub count: usize,
+    /// The encounter with the smallest miss distance (the earliest among ties); `None` without any.
+    pub closest: Option<Encounter>,
+    /// Encounters per satellite id, as primary or as secondary (only the satellites with one or
+    /// more; keys are the ids as text).
+    pub per_satellite: BTreeMap<String, u64>,
+    /// The satellites' navigation noise, one sigma per Hill axis \[m\] (0 without noise): the
+    /// diagonal covariance the CDM export states for a satellite.
+    pub position_sigma_m: f64,
+    /// The same for the velocity \[m/s\].
+    pub velocity_sigma_mps: f64,
+}
+
+impl ConjunctionSummary {
+    /// The summary of `encounters` found below `threshold_m` \[m\], in a run whose navigation noise
+    /// has the sigmas `position_sigma_m` \[m\] and `velocity_sigma_mps` \[m/s\].
+    pub fn new(
+        threshold_m: f64,
+        encounters: &[Encounter],
+        position_sigma_m: f64,
+        velocity_sigma_mps: f64,
+    ) -> Self {
+        let mut counts: BTreeMap<usize, u64> = BTreeMap::new();
+        for e in encounters {
+            *counts.entry(e.primary).or_default() += 1;
+            if let Secondary::Satellite(k) = e.secondary {
+                *counts.entry(k).or_default() += 1;
+            }
+        }
+        let closest = encounters.iter().copied().reduce(|best, e| {
+            let earlier = (e.miss_distance_m, e.tca_s) < (best.miss_distance_m, best.tca_s);
+            if earlier {
+                e
+            } else {
+                best
+            }
+        });
+        Self {
+            threshold_m,
+            count: encounters.len(),
+            closest,
+            per_satellite: counts
+                .into_iter()
+                .map(|(id, n)| (id.to_string(), n))
+                .collect(),
+            position_sigma_m,
+            velocity_sigma_mps,
+        }
+    }
 }
 
 /// The frames of the outputs, by name and in one sentence each (the `frames` object).
@@ -149,6 +208,9 @@ pub struct RunSummary {
     /// or obstacles).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub environment: Option<EnvironmentSummary>,
+    /// The conjunctions (`[conjunctions]`; absent without the section).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub conjunctions: Option<ConjunctionSummary>,
     /// The law-specific results, by key.
     pub law: BTreeMap<String, serde_json::Value>,
     /// Scenario tags and run metadata (crate version, platform).

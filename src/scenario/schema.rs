@@ -56,6 +56,9 @@ pub struct ScenarioFile {
     /// The event timeline.
     #[serde(default)]
     pub events: Vec<EventSection>,
+    /// The conjunction monitor (`[conjunctions]`; absent: none).
+    #[serde(default)]
+    pub conjunctions: Option<ConjunctionsSection>,
     /// What to write.
     #[serde(default)]
     pub output: OutputSection,
@@ -138,6 +141,15 @@ impl Default for DynamicsSection {
             forces: None,
         }
     }
+}
+
+/// `[conjunctions]`: report every encounter of two satellites, or of a satellite and a threat or
+/// obstacle, whose miss distance falls below the threshold (`conjunctions.csv` / `.parquet`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConjunctionsSection {
+    /// Miss-distance threshold, centre to centre \[m\] (finite, >= 0).
+    pub threshold_m: f64,
 }
 
 /// `[earth]`: optional overrides of the Earth constants.
@@ -590,7 +602,8 @@ pub struct OutputSection {
     /// sizes are refused as a likely unit mistake).
     #[serde(default)]
     pub allow_large: bool,
-    /// Write `swarm.oem` (CCSDS OEM 2.0 of every satellite's inertial states, from `trajectory.csv`)
+    /// Write `oem/sat-NNNNN.oem` (CCSDS OEM 2.0 of each satellite's inertial states, one file per
+    /// satellite, from the trajectory)
     /// after a completed run (default false; needs `trajectory = true`).
     #[serde(default)]
     pub oem: bool,

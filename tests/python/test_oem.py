@@ -33,7 +33,7 @@ def run_dir(satflock_bin, tmp_path_factory):
 
 def test_every_state_matches_the_trajectory_in_km(satflock_bin, run_dir, monkeypatch):
     monkeypatch.setenv("SOURCE_DATE_EPOCH", SOURCE_DATE_EPOCH)
-    run_satflock(satflock_bin, "export", "oem", str(run_dir), "--per-satellite")
+    run_satflock(satflock_bin, "export", "oem", str(run_dir))
     summary = json.loads((run_dir / "summary.json").read_text())
     # summary.json's epoch carries the zone letter (aware); the OEM's epochs are UTC without it (naive).
     assert summary["epoch_utc"].endswith("Z")
@@ -68,12 +68,13 @@ def test_every_state_matches_the_trajectory_in_km(satflock_bin, run_dir, monkeyp
 
 
 def test_the_swarm_file_holds_the_same_segments(satflock_bin, run_dir, monkeypatch):
-    """`swarm.oem` (the default) puts every satellite in one file, a segment each: the per-satellite
-    files' segments, byte for byte. The strict reader refuses such a file: CCSDS 502.0-B-2 (5.1.3) defines
-    an OEM for one object, which is why `--per-satellite` exists (docs/outputs.md says so)."""
+    """`--single-file` (`swarm.oem`, named non-standard) puts every satellite in one file, a segment
+    each: the per-satellite files' segments, byte for byte. The strict reader refuses such a file: CCSDS
+    502.0-B-2 (5.1.3) defines an OEM for one object, which is why one file per satellite is the
+    default (docs/outputs.md says so)."""
     monkeypatch.setenv("SOURCE_DATE_EPOCH", SOURCE_DATE_EPOCH)
+    run_satflock(satflock_bin, "export", "oem", str(run_dir), "--single-file")
     run_satflock(satflock_bin, "export", "oem", str(run_dir))
-    run_satflock(satflock_bin, "export", "oem", str(run_dir), "--per-satellite")
     swarm = (run_dir / "swarm.oem").read_text()
     blocks = ["META_START" + b for b in swarm.split("META_START")[1:]]
     files = sorted((run_dir / "oem").glob("sat-*.oem"))

@@ -11,6 +11,7 @@
 //! | `environment.rs` | `[[threats]]`, `[[obstacles]]` |
 //! | `law.rs` | `[law]`, `[[events]]` |
 
+mod conjunctions;
 mod environment;
 mod initial_states;
 mod law;
@@ -84,6 +85,9 @@ pub struct Prepared {
     pub events: Vec<Event>,
     /// Whether to write the trajectory file.
     pub write_trajectory: bool,
+    /// The conjunction threshold of `[conjunctions] threshold_m` \[m\] (`None`: no conjunction
+    /// monitor).
+    pub conjunction_threshold_m: Option<f64>,
     /// Extra metadata for the summary.
     pub tags: std::collections::BTreeMap<String, String>,
     /// The instant of t = 0.
@@ -338,6 +342,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         law,
         events,
         write_trajectory: f.output.trajectory,
+        conjunction_threshold_m: conjunctions::threshold_m(&c, f.conjunctions.as_ref())?,
         tags: f.output.tags.clone(),
         law_source: None,
         warnings,

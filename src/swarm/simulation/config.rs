@@ -384,6 +384,9 @@ pub enum SimError {
     /// ([`LawError::Failed`]).
     #[error(transparent)]
     Law(#[from] LawError),
+    /// The conjunction monitor could not screen a segment.
+    #[error("conjunction monitor: {0}")]
+    Conjunction(#[from] crate::conjunction::ConjunctionError),
     /// The recorder could not write.
     #[error("recording failed: {0}")]
     Recording(#[from] std::io::Error),

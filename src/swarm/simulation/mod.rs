@@ -51,6 +51,7 @@ pub use config::{
     SimulationConfig, TIME_EPSILON,
 };
 
+use crate::conjunction::ConjunctionMonitor;
 use crate::environment::ApproachMonitor;
 use crate::integrate::Stepper;
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
@@ -60,7 +61,7 @@ use crate::swarm::events::{Event, EventAction, Selection};
 use crate::swarm::law::{GuidanceLaw, Law, SwarmView};
 use crate::swarm::state::SwarmState;
 use crate::swarm::storage_order::Placement;
-use monitors::{LiveMetrics, Monitors};
+use monitors::{LiveMetrics, Monitors, OriginStates};
 use propagation::{SampledBuffers, StageScratch};
 use resort::RESORT_PERIOD_TICKS;
 use satellites::Satellites;
@@ -101,8 +102,11 @@ pub struct StageTimings {
     pub law_s: f64,
     /// Integration of the reference orbit and every satellite over the segments \[s\].
     pub propagation_s: f64,
-    /// Truth monitors: divergence, minimum separation and collisions, threat and obstacle approach \[s\].
+    /// Truth monitors: divergence, minimum separation and collisions, threat and obstacle approach,
+    /// conjunctions \[s\].
     pub monitors_s: f64,
+    /// The conjunction monitor alone, a part of `monitors_s` \[s\] (0 without one).
+    pub conjunctions_s: f64,
     /// Snapshots handed to the recorder (metrics, five elements, law metrics and outputs) \[s\].
     pub recording_s: f64,
     /// How the satellites were propagated: the fused kernel and the force set it covers, the generic
@@ -303,6 +307,8 @@ impl Simulation {
                 } else {
                     vec![RelativeStateHill::default(); n]
                 },
+                conjunctions: None,
+                origin_previous: OriginStates::default(),
             },
             resort_period_ticks: RESORT_PERIOD_TICKS,
             cancel: None,
@@ -478,6 +484,32 @@ impl Simulation {
     /// Per threat: whether a ground warning about it is in force.
     pub fn threat_warnings(&self) -> &[bool] {
         &self.timeline.threat_warnings
+    }
+
+    /// Monitors the conjunctions closer than `threshold_m` \[m\] (finite, >= 0) from now on, or stops
+    /// monitoring them (`None`): every encounter of two satellites, or of a satellite and a threat or
+    /// obstacle, whose miss distance falls below the threshold ([`ConjunctionMonitor`]). Call it before
+    /// the run.
+    ///
+    /// # Errors
+    /// [`crate::conjunction::ConjunctionError::Threshold`] for a negative or non-finite threshold.
+    pub fn set_conjunction_threshold_m(
+        &mut self,
+        threshold_m: Option<f64>,
+    ) -> Result<(), crate::conjunction::ConjunctionError> {
+        self.monitors.conjunctions = threshold_m.map(ConjunctionMonitor::new).transpose()?;
+        let n = self.satellites.truth.len();
+        if self.monitors.conjunctions.is_some() && self.monitors.truth_previous.len() != n {
+            self.monitors.truth_previous = vec![RelativeStateHill::default(); n];
+        }
+        Ok(())
+    }
+
+    /// The conjunction monitor, when the run monitors conjunctions
+    /// ([`Self::set_conjunction_threshold_m`]): every encounter so far, and those found on the last
+    /// segment ([`ConjunctionMonitor::last_segment`]).
+    pub fn conjunction_monitor(&self) -> Option<&ConjunctionMonitor> {
+        self.monitors.conjunctions.as_ref()
     }
 
     /// The continuous closest-approach and clearance monitor of the threats and obstacles.

@@ -6,15 +6,17 @@
 
 use nalgebra::Vector3;
 
+use crate::conjunction::{ConjunctionMonitor, SwarmSegment};
 use crate::environment::HermiteSegment;
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
-use crate::orbit::RelativeStateHill;
+use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use rayon::prelude::*;
 
 use crate::swarm::simulation::satellites::Fleet;
 use crate::swarm::simulation::sensing::CHUNK;
+use crate::swarm::simulation::Origin;
 use crate::swarm::simulation::{Divergence, SimError, Simulation};
-use crate::swarm::state::satellite_of;
+use crate::swarm::state::{reference_of, satellite_of};
 use crate::swarm::storage_order::permute;
 use crate::swarm::Law;
 
@@ -23,9 +25,27 @@ use crate::swarm::Law;
 pub(super) struct Monitors {
     pub live: LiveMetrics,
     pub approach: crate::environment::ApproachMonitor,
-    /// Truth relative states at the start of the last segment (empty in a scenario without threats
-    /// or obstacles).
+    /// Truth relative states at the start of the last segment (empty in a scenario without threats,
+    /// obstacles or conjunction monitor).
     pub truth_previous: Vec<RelativeStateHill>,
+    /// The conjunction monitor, when the run has one.
+    pub conjunctions: Option<ConjunctionMonitor>,
+    /// The LVLH origin's states at the start of the last segment (conjunction monitor only).
+    pub origin_previous: OriginStates,
+}
+
+/// What places the Hill frame at an instant: the state of the frame's origin (EME2000 for the inertial
+/// models: the virtual reference or the member origin; the virtual reference for the linear and
+/// kinematic models, whose states are Hill states relative to it) and, for the linear and kinematic
+/// models with a member origin, that member's state relative to the virtual reference (Hill; zero
+/// otherwise), which the truth relative states are taken from.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct OriginStates {
+    /// The frame's origin, EME2000 \[m, m/s\].
+    pub origin_eme2000: CartesianState,
+    /// The member origin relative to the virtual reference, Hill frame \[m, m/s\] (linear and
+    /// kinematic models; zero otherwise).
+    pub member_offset_hill: RelativeStateHill,
 }
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
@@ -77,6 +97,11 @@ impl Simulation {
         self.totals.min_separation_m = self.totals.min_separation_m.min(separation);
         self.totals.max_collisions = self.totals.max_collisions.max(collisions);
         self.totals.collision_pair_samples += collisions;
+        if self.clock.time_s > t0_s && self.monitors.conjunctions.is_some() {
+            let clock = std::time::Instant::now();
+            self.monitor_conjunctions(t0_s)?;
+            self.timings.conjunctions_s += clock.elapsed().as_secs_f64();
+        }
         if self.clock.time_s > t0_s
             && !(self.config.threats.is_empty() && self.config.obstacles.is_empty())
         {
@@ -107,6 +132,96 @@ impl Simulation {
                     );
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// The origin's states now ([`OriginStates`]).
+    pub(super) fn origin_states(&self) -> OriginStates {
+        let data = self.state.as_slice();
+        let n = self.state.n();
+        let member = |k: usize| satellite_of(data, n, self.satellites.fleet.order.index_of(k));
+        let reference = reference_of(data);
+        let (origin, offset) = match (self.config.dynamics.is_inertial(), self.config.origin) {
+            (true, Origin::Member(k)) => (member(k), None),
+            (false, Origin::Member(k)) => (reference, Some(member(k))),
+            (_, Origin::VirtualReference) => (reference, None),
+        };
+        OriginStates {
+            origin_eme2000: CartesianState::new(origin.0, origin.1),
+            member_offset_hill: offset.map_or_else(RelativeStateHill::default, |(p, v)| {
+                RelativeStateHill {
+                    position_m: p,
+                    velocity_mps: v,
+                }
+            }),
+        }
+    }
+
+    /// The conjunction monitor on the segment that ended now and started at `t0_s`; the Hill frame at
+    /// an instant of the segment is placed by the origin's states interpolated between its ends (cubic
+    /// Hermite), as the truth relative states were taken ([`super::sensing`]).
+    fn monitor_conjunctions(&mut self, t0_s: f64) -> Result<(), SimError> {
+        let t1_s = self.clock.time_s;
+        let (start, end) = (self.monitors.origin_previous, self.origin_states());
+        let inertial = self.config.dynamics.is_inertial();
+        let properties = match self.config.origin {
+            Origin::VirtualReference => self.config.reference_properties,
+            Origin::Member(k) => self
+                .satellites
+                .fleet
+                .properties(self.satellites.fleet.order.index_of(k)),
+        };
+        let config = &self.config;
+        let to_eme2000 = |t_s: f64, hill: &RelativeStateHill| -> CartesianState {
+            let origin = interpolate(t0_s, t1_s, &start.origin_eme2000, &end.origin_eme2000, t_s);
+            let offset = interpolate(
+                t0_s,
+                t1_s,
+                &CartesianState::new(
+                    start.member_offset_hill.position_m,
+                    start.member_offset_hill.velocity_mps,
+                ),
+                &CartesianState::new(
+                    end.member_offset_hill.position_m,
+                    end.member_offset_hill.velocity_mps,
+                ),
+                t_s,
+            );
+            let frame = if inertial {
+                let accel = config.dynamics.reference_acceleration_m_s2(
+                    &config.earth,
+                    t_s,
+                    &origin.position_m,
+                    &origin.velocity_mps,
+                    &properties,
+                );
+                LvlhFrame::from_reference_with_acceleration(&origin, &accel)
+            } else {
+                LvlhFrame::from_reference(&origin)
+            };
+            frame.from_hill(&RelativeStateHill {
+                position_m: hill.position_m + offset.position_m,
+                velocity_mps: hill.velocity_mps + offset.velocity_mps,
+            })
+        };
+        let order = &self.satellites.fleet.order;
+        let id_of = |i: usize| order.id_at(i);
+        let live: Vec<usize> = (0..self.satellites.truth.len())
+            .filter(|&i| self.satellites.fleet.active[i])
+            .collect();
+        let segment = SwarmSegment {
+            t0_s,
+            t1_s,
+            start: &self.monitors.truth_previous,
+            end: &self.satellites.truth,
+            live: &live,
+            id_of: &id_of,
+            threats: &self.config.threats,
+            obstacles: &self.config.obstacles,
+        };
+        if let Some(monitor) = self.monitors.conjunctions.as_mut() {
+            monitor.observe_segment(&segment, &to_eme2000)?;
         }
         Ok(())
     }
@@ -154,6 +269,26 @@ impl Simulation {
             None => Ok(()),
         }
     }
+}
+
+/// The cubic Hermite interpolant at `t_s` of the states `a` at `t0_s` and `b` at `t1_s` (one frame, any:
+/// positions and velocities of the same frame, m and m/s).
+fn interpolate(
+    t0_s: f64,
+    t1_s: f64,
+    a: &CartesianState,
+    b: &CartesianState,
+    t_s: f64,
+) -> CartesianState {
+    let segment = HermiteSegment {
+        t0_s,
+        t1_s,
+        p0_hill_m: a.position_m,
+        v0_hill_mps: a.velocity_mps,
+        p1_hill_m: b.position_m,
+        v1_hill_mps: b.velocity_mps,
+    };
+    CartesianState::new(segment.position_hill_m(t_s), segment.velocity_hill_mps(t_s))
 }
 
 /// Minimum separation between live satellites \[m\] and the count of pairs closer than the sum of their

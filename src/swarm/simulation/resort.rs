@@ -50,6 +50,10 @@ impl Simulation {
         self.law.permute_states(&moves, &mut visited);
         // The separation tracker's anchors are by storage index: they move too.
         self.monitors.live.move_anchors(&moves, &mut visited);
+        // The conjunction screen's candidate pairs are by storage index: it builds them again.
+        if let Some(conjunctions) = &mut self.monitors.conjunctions {
+            conjunctions.storage_order_changed();
+        }
     }
 }
 

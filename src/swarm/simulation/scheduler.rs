@@ -170,6 +170,9 @@ impl Simulation {
                 .truth_previous
                 .copy_from_slice(&self.satellites.truth);
         }
+        if self.monitors.conjunctions.is_some() {
+            self.monitors.origin_previous = self.origin_states();
+        }
         let n = self.state.n();
         let plant = Plant::new(
             &self.config,
