@@ -15,16 +15,18 @@ use crate::orbit::{
 };
 use crate::relative::{Hcw, SchweighartSedwick};
 use crate::scenario::initial;
+
+mod events;
 use crate::scenario::schema::{
-    ActionSection, AxisName, ControlMode, InitialSection, ListFrame, ModelName, ObstacleSection,
-    OriginName, PerSatellite, SatellitesSection, SelectionSection, ThreatSection,
+    ControlMode, InitialSection, ListFrame, ModelName, ObstacleSection, OriginName, PerSatellite,
+    SatellitesSection, ThreatSection,
 };
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
-    check_law_fits, Actuator, ControlTiming, DragAttitudes, DynamicsModel, Event, EventAction, Law,
-    Origin, SatelliteInit, Selection, Sensing, SimError, SimulationConfig, SwarmFacts, ThrustAxis,
-    MAX_DRAG_MODES,
+    check_law_fits, Actuator, ControlTiming, DragAttitudes, DynamicsModel, Event, Law, Origin,
+    SatelliteInit, Sensing, SimError, SimulationConfig, SwarmFacts, MAX_DRAG_MODES,
 };
+use events::events;
 
 /// Largest run (satellites × base steps) accepted without `[output] allow_large = true`: about an hour of
 /// the engine's throughput on two cores (~10^6 satellite-steps/s), far beyond any paper's run; a larger
@@ -1651,129 +1653,4 @@ fn read_states_csv(path: &Path) -> Result<Vec<[f64; 6]>, String> {
         rows.push(row);
     }
     Ok(rows)
-}
-
-fn selection(
-    c: &Checker<'_>,
-    key: &str,
-    s: &SelectionSection,
-    count: usize,
-) -> Result<Selection, ScenarioError> {
-    match s {
-        SelectionSection::Word(w) if w == "all" => Ok(Selection::All),
-        SelectionSection::Word(w) => Err(c.invalid(
-            key,
-            format!("`{w}` is not allowed (allowed: \"all\" or a list of satellite indices)"),
-        )),
-        SelectionSection::Ids(ids) => {
-            for &i in ids {
-                c.index(key, i, count)?;
-            }
-            Ok(Selection::Satellites(ids.clone()))
-        }
-    }
-}
-
-/// Translates the timeline, checking times, indices and — by replaying the law changes in time order —
-/// every parameter update and law switch: each resulting law is built and checked against the dynamics
-/// and timing, so that a bad or too stiff update fails before the run, not when its event fires.
-fn events(
-    c: &Checker<'_>,
-    scenario: &Scenario,
-    count: usize,
-    config: &SimulationConfig,
-    min_mass_kg: f64,
-) -> Result<Vec<Event>, ScenarioError> {
-    let f = &scenario.file;
-    let duration_s = config.duration_s;
-    let mut order: Vec<usize> = (0..f.events.len()).collect();
-    order.sort_by(|&a, &b| f.events[a].time_s.total_cmp(&f.events[b].time_s));
-    let mut current = f.law.clone();
-    let mut out = Vec::with_capacity(f.events.len());
-    for k in order {
-        let e = &f.events[k];
-        let event = scenario.event_key(k);
-        let key = |name: &str| format!("{event}.{name}");
-        if !(e.time_s.is_finite() && (0.0..=duration_s).contains(&e.time_s)) {
-            return Err(c.invalid(
-                &key("time_s"),
-                format!(
-                    "{} is out of range (allowed: [0, duration_s = {duration_s}])",
-                    e.time_s
-                ),
-            ));
-        }
-        let action = match &e.action {
-            ActionSection::SetLawParameters { parameters } => {
-                let merged = merge_law_parameters(&current, parameters).map_err(|err| {
-                    c.invalid(
-                        &key("parameters"),
-                        format!("law `{}`: {err}", current.name()),
-                    )
-                })?;
-                build_law(c, &key("parameters"), &merged, config, count, min_mass_kg)?;
-                current = merged.clone();
-                EventAction::SetLawParameters(merged.into_parameters())
-            }
-            ActionSection::SwitchLaw { law } => {
-                let built = build_law(c, &key("law"), law, config, count, min_mass_kg)?;
-                current = law.clone();
-                EventAction::SwitchLaw(built)
-            }
-            ActionSection::ThreatWarning { threat, active } => EventAction::ThreatWarning {
-                threat: if *threat < config.threats.len() {
-                    *threat
-                } else if config.threats.is_empty() {
-                    return Err(c.invalid(
-                        &key("threat"),
-                        "the scenario has no [[threats]] to warn about (add one, or remove this \
-                         threat-warning event)",
-                    ));
-                } else {
-                    return Err(c.invalid(
-                        &key("threat"),
-                        format!(
-                            "threat {threat} does not exist (allowed: 0..{}, the [[threats]] of the scenario)",
-                            config.threats.len()
-                        ),
-                    ));
-                },
-                active: *active,
-            },
-            ActionSection::CutLinks { satellites } => {
-                EventAction::CutLinks(selection(c, &key("satellites"), satellites, count)?)
-            }
-            ActionSection::RestoreLinks { satellites } => {
-                EventAction::RestoreLinks(selection(c, &key("satellites"), satellites, count)?)
-            }
-            ActionSection::RemoveSatellite { satellite } => {
-                let id = c.index(&key("satellite"), *satellite, count)?;
-                if config.origin == Origin::Member(id) {
-                    return Err(c.invalid(
-                        &key("satellite"),
-                        format!(
-                            "satellite {id} is reference.origin_member, the origin of the relative \
-                             frame; removing it would freeze the frame (allowed: any other satellite, \
-                             or origin = \"virtual\")"
-                        ),
-                    ));
-                }
-                EventAction::RemoveSatellite(id)
-            }
-            ActionSection::FailThruster { satellite, axis } => EventAction::FailThruster {
-                satellite: c.index(&key("satellite"), *satellite, count)?,
-                axis: match axis {
-                    AxisName::X => ThrustAxis::X,
-                    AxisName::Y => ThrustAxis::Y,
-                    AxisName::Z => ThrustAxis::Z,
-                    AxisName::All => ThrustAxis::All,
-                },
-            },
-        };
-        out.push(Event {
-            time_s: e.time_s,
-            action,
-        });
-    }
-    Ok(out)
 }

@@ -6,7 +6,7 @@
 
 use nalgebra::Vector3;
 
-use crate::environment::HermiteSegment;
+use crate::environment::{closest_approach_to_threat, HermiteSegment};
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
 use crate::orbit::RelativeStateHill;
 use rayon::prelude::*;
@@ -26,6 +26,12 @@ pub(super) struct Monitors {
     /// Truth relative states at the start of the last segment (empty in a scenario without threats
     /// or obstacles).
     pub truth_previous: Vec<RelativeStateHill>,
+    /// Whether a condition event tests the closest approach to a threat (`threat_within_m`): then
+    /// every segment's continuous closest approach of the swarm goes into `threat_window_m`.
+    pub tracks_threats: bool,
+    /// The closest approach between a live satellite and a threat over the segments since the
+    /// conditions were last evaluated \[m\] (`None`: none observed).
+    pub threat_window_m: Option<f64>,
 }
 
 /// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
@@ -105,6 +111,13 @@ impl Simulation {
                         &self.config.threats,
                         &self.config.obstacles,
                     );
+                    if self.monitors.tracks_threats {
+                        for threat in &self.config.threats {
+                            let d = closest_approach_to_threat(&segment, threat).distance_m;
+                            let window = &mut self.monitors.threat_window_m;
+                            *window = Some(window.map_or(d, |w| w.min(d)));
+                        }
+                    }
                 }
             }
         }
