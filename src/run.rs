@@ -11,13 +11,13 @@ use thiserror::Error;
 
 use crate::output::oem::{self, OemLayout};
 use crate::output::summary::{DynamicsSummary, EnvironmentSummary, FinalState, Frames};
-use crate::output::{cdm, conjunctions, czml, frames, ExportError, RunData};
+use crate::output::{cdm, conjunctions, czml, frames, EventLog, ExportError, RunData, StoppedBy};
 use crate::output::{
     DeltaVSummary, OutputColumns, OutputFormat, RunMetadata, RunRecorder, RunStatus, RunSummary,
     Scene, TableFormats,
 };
 use crate::scenario::{Prepared, Scenario, ScenarioError};
-use crate::swarm::{SimError, Simulation};
+use crate::swarm::{Firing, Recorder, SimError, Simulation, Snapshot};
 
 /// Why a run could not start or did not finish.
 #[derive(Debug, Error)]
@@ -96,7 +96,9 @@ fn setup_error(scenario: &Scenario, e: SimError) -> RunError {
         SimError::NoSatellites => "satellites.count",
         SimError::SensingRange { .. } => "sensing.range_m",
         SimError::OriginMember { .. } => "reference.origin_member",
-        SimError::EventOutsideRun { .. } | SimError::EventTarget { .. } => "events",
+        SimError::EventOutsideRun { .. }
+        | SimError::EventTarget { .. }
+        | SimError::EventCondition { .. } => "events",
         SimError::ControlPeriodTooLong { .. } => "control.period_s",
         SimError::StepTooLong { .. } | SimError::AdaptiveStepTooLong { .. } => "dynamics.step_s",
         SimError::CommandKindMismatch { .. } => "dynamics.model",
@@ -123,6 +125,7 @@ pub const RUN_FILES: &[&str] = &[
     "conjunctions.csv",
     "conjunctions.parquet",
     "scenario.toml",
+    crate::output::events_log::RUN_FILE,
     "report.html",
     oem::RUN_FILE,
     czml::RUN_FILE,
@@ -322,6 +325,9 @@ pub fn run_prepared(
         budget_mps,
         metadata,
         load_warnings: prepared.warnings.clone(),
+        event_keys: (0..scenario.file.events.len())
+            .map(|k| scenario.event_key(k))
+            .collect(),
     };
     let mut simulation = Simulation::new(
         prepared.config,
@@ -469,6 +475,8 @@ struct SummaryContext {
     /// The warnings found when the scenario was prepared ([`Prepared::warnings`]), first in the
     /// summary's `warnings`.
     load_warnings: Vec<String>,
+    /// The key of each event of the scenario (`events[K]`, `controller events[K]`).
+    event_keys: Vec<String>,
 }
 
 /// What [`write_inputs`] takes from the prepared scenario.
@@ -513,11 +521,24 @@ impl SummaryContext {
             tt_minus_utc_s: crate::time::tt_minus_utc_s(self.epoch),
             frames: Frames::default(),
             status: match error {
+                None if simulation.stopped_by().is_some() => RunStatus::Stopped,
                 None => RunStatus::Completed,
                 Some(e) if e.is_interruption() => RunStatus::Interrupted,
                 Some(_) => RunStatus::Failed,
             },
             error: error.map(|e| e.text()),
+            stopped_by: simulation.stopped_by().map(|f| StoppedBy {
+                event: f.event,
+                key: self
+                    .event_keys
+                    .get(f.event)
+                    .cloned()
+                    .unwrap_or_else(|| format!("events[{}]", f.event)),
+                time_s: f.time_s,
+                trigger: f.trigger.to_string(),
+                value: f.value,
+            }),
+            events: simulation.fired_events().to_vec(),
             warnings: {
                 let mut warnings = self.load_warnings.clone();
                 warnings.extend(run_warnings(
@@ -650,7 +671,33 @@ fn output_error(e: ExportError) -> RunError {
     }
 }
 
-/// Writes `scene.json` and `scenario.toml` (each whole) and creates the tables' files.
+/// What a run streams into its directory: the tables and `events.jsonl`.
+struct RunOutputs {
+    tables: RunRecorder,
+    events: EventLog,
+}
+
+impl Recorder for RunOutputs {
+    fn record(&mut self, snapshot: &Snapshot<'_>) -> std::io::Result<()> {
+        self.tables.record(snapshot)
+    }
+
+    fn event_fired(&mut self, firing: &Firing) -> std::io::Result<()> {
+        self.events.write(firing)
+    }
+}
+
+impl RunOutputs {
+    /// Closes the tables and the event log (the first error, if any).
+    fn finish(self) -> std::io::Result<()> {
+        let tables = self.tables.finish();
+        let events = self.events.finish();
+        tables.and(events)
+    }
+}
+
+/// Writes `scene.json` and `scenario.toml` (each whole) and creates the tables' files and
+/// `events.jsonl`.
 fn write_inputs(
     scenario: &Scenario,
     inputs: &RunInputs<'_>,
@@ -658,7 +705,7 @@ fn write_inputs(
     simulation: &Simulation,
     options: &RunOptions,
     out_dir: &Path,
-) -> Result<RunRecorder, RunError> {
+) -> Result<RunOutputs, RunError> {
     let scene = Scene {
         target_formation_lvlh_m: simulation
             .law()
@@ -698,7 +745,7 @@ fn write_inputs(
         seed: context.seed,
         epoch: context.epoch,
     };
-    RunRecorder::create(
+    let tables = RunRecorder::create(
         out_dir,
         formats,
         OutputColumns::of(simulation),
@@ -707,10 +754,18 @@ fn write_inputs(
     .map_err(|e| RunError::Output {
         path: out_dir.display().to_string(),
         message: e.to_string(),
-    })
+    })?;
+    let events = EventLog::create(out_dir).map_err(|e| RunError::Output {
+        path: out_dir
+            .join(crate::output::events_log::RUN_FILE)
+            .display()
+            .to_string(),
+        message: e.to_string(),
+    })?;
+    Ok(RunOutputs { tables, events })
 }
 
-/// `[output] oem = true`: writes `swarm.oem` from the finished run's directory.
+/// `[output] oem = true`: writes `oem/sat-NNNNN.oem` from the finished run's directory.
 fn write_oem(out_dir: &Path) -> Result<(), RunError> {
     let fail = |path: String, message: String| RunError::Output { path, message };
     let file = out_dir.join(oem::RUN_DIR_NAME);

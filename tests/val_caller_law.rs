@@ -29,8 +29,8 @@ fn scratch(name: &str) -> PathBuf {
 fn short_hold() -> Scenario {
     let mut scenario = Scenario::load("hold").unwrap();
     scenario.file.duration_s = 300.0;
-    scenario.file.events.retain(|e| e.time_s == 2000.0);
-    scenario.file.events[0].time_s = 150.0;
+    scenario.file.events.retain(|e| e.time_s == Some(2000.0));
+    scenario.file.events[0].time_s = Some(150.0);
     scenario
 }
 

@@ -573,14 +573,12 @@ fn val_events_remove_satellites_and_cut_links() {
         state([0.0, 20.0, 0.0], [0.0; 3]),
     ];
     let events = vec![
-        Event {
-            time_s: 100.0,
-            action: EventAction::CutLinks(Selection::Satellites(vec![0])),
-        },
-        Event {
-            time_s: 200.0,
-            action: EventAction::RemoveSatellite(2),
-        },
+        Event::at(
+            0,
+            100.0,
+            EventAction::CutLinks(Selection::Satellites(vec![0])),
+        ),
+        Event::at(0, 200.0, EventAction::RemoveSatellite(2)),
     ];
     let mut cfg = config(
         DynamicsModel::Hcw(Hcw::new(n())),
@@ -695,10 +693,7 @@ fn regress_centralised_step_runs_on_its_schedule_in_both_modes() {
         let mut cfg = config(DynamicsModel::Hcw(Hcw::new(n())), control, 35.0);
         cfg.record_interval_s = 5.0;
         let law = CentralisedCounter { live_count: 0 };
-        let events = vec![Event {
-            time_s: 15.0,
-            action: EventAction::RemoveSatellite(1),
-        }];
+        let events = vec![Event::at(0, 15.0, EventAction::RemoveSatellite(1))];
         let mut sim = Simulation::new(cfg, &satellites(&states), Law::new(law), events).unwrap();
         sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
         // satellite 0 was commanded 2e-6 m/s² for t in [0, 20) and 1e-6 m/s² for [20, 35): the count is
@@ -764,10 +759,11 @@ fn val_law_metrics_are_recorded_in_time_order_across_a_law_switch() {
         100.0,
     );
     cfg.record_interval_s = 10.0;
-    let events = vec![Event {
-        time_s: 50.0,
-        action: EventAction::SwitchLaw(Law::new(Clocked(&["b_time_s", "b_calls"], 0.0))),
-    }];
+    let events = vec![Event::at(
+        0,
+        50.0,
+        EventAction::SwitchLaw(Law::new(Clocked(&["b_time_s", "b_calls"], 0.0))),
+    )];
     let mut sim = Simulation::new(
         cfg,
         &satellites(&[state([1.0, 0.0, 0.0], [0.0; 3])]),

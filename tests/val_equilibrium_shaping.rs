@@ -1191,13 +1191,14 @@ fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
     let nodes = law.tables().nodes_m.clone();
     let threat = threat_from_plus_z(nodes[0] + Vector3::new(3.0, 15.0, 0.0), 0.5, 30.0);
     let cfg = config(hcw.clone(), 0.005, 60.0, 5.0, vec![threat.clone()]);
-    let events = vec![Event {
-        time_s: 0.0,
-        action: EventAction::ThreatWarning {
+    let events = vec![Event::at(
+        0,
+        0.0,
+        EventAction::ThreatWarning {
             threat: 0,
             active: true,
         },
-    }];
+    )];
     let mut sim = Simulation::new(
         cfg,
         &satellites(&start, free),
@@ -1257,13 +1258,14 @@ fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
     ];
     let threat = threat_from_plus_z(Vector3::new(0.0, 500.0, 0.0), 1.0, 1e4);
     let cfg = config(hcw.clone(), 0.005, 60.0, 5.0, vec![threat.clone()]);
-    let events = vec![Event {
-        time_s: 0.0,
-        action: EventAction::ThreatWarning {
+    let events = vec![Event::at(
+        0,
+        0.0,
+        EventAction::ThreatWarning {
             threat: 0,
             active: true,
         },
-    }];
+    )];
     let mut sim = Simulation::new(
         cfg,
         &satellites(&start, free),
@@ -1468,10 +1470,8 @@ fn val_state_machine_in_a_run_follows_the_warning_events() {
         1.0,
         vec![threat],
     );
-    let warning = |time_s, active| Event {
-        time_s,
-        action: EventAction::ThreatWarning { threat: 0, active },
-    };
+    let warning =
+        |time_s, active| Event::at(0, time_s, EventAction::ThreatWarning { threat: 0, active });
     let events = vec![warning(10.0, true), warning(60.0, false)];
     let sats = satellites(&at_rest(&nodes), Actuator::new(1.4e-3, LimitKind::PerAxis));
     let mut sim = Simulation::new(cfg, &sats, Law::new(law), events).unwrap();

@@ -957,10 +957,7 @@ fn val_command_kind_mismatch_is_a_setup_error() {
         ControlTiming::Sampled { period_s: 1.0 },
         10.0,
     );
-    let events = vec![Event {
-        time_s: 5.0,
-        action: EventAction::SwitchLaw(field()),
-    }];
+    let events = vec![Event::at(0, 5.0, EventAction::SwitchLaw(field()))];
     let mut sim = Simulation::new(cfg, &sats, Law::new(FreeDrift), events).unwrap();
     let err = sim.run(&mut NullRecorder, &mut |_| {}).unwrap_err();
     assert!(
@@ -1091,14 +1088,12 @@ fn val_advance_to_each_recording_time_equals_one_run() {
             .unwrap()];
             cfg.obstacles = vec![Obstacle::new("o", Vector3::new(0.0, 0.0, 0.0), 12.0).unwrap()];
             let events = vec![
-                Event {
-                    time_s: 25.0,
-                    action: EventAction::CutLinks(Selection::Satellites(vec![0, 1, 2])),
-                },
-                Event {
-                    time_s: 43.0,
-                    action: EventAction::RemoveSatellite(7),
-                },
+                Event::at(
+                    0,
+                    25.0,
+                    EventAction::CutLinks(Selection::Satellites(vec![0, 1, 2])),
+                ),
+                Event::at(0, 43.0, EventAction::RemoveSatellite(7)),
             ];
             let law = Law::new(NoisyConsensus {
                 kick: 0.05,

@@ -422,7 +422,7 @@ fn oem_3_0_in_tt_with_accelerations() {
 // ---------------------------------------------------------------------------------------------
 // The round trip through satflock's own OEM writer.
 
-/// Run a scenario with `[output] oem = true` at a 60 s cadence, read `swarm.oem` back at epochs
+/// Run a scenario with `[output] oem = true` at a 60 s cadence, read its `oem/sat-NNNNN.oem` back at epochs
 /// between its samples, and compare with the same run recorded every 10 s (the same trajectory: the
 /// recording cadence does not change the integration, checked at the common times). The error is
 /// Lagrange's of degree 5 on 60 s samples (about 3 mm in the middle of a window for a 600 km orbit:
@@ -462,7 +462,10 @@ fn round_trip_through_satflock_oem() {
         &mut |_| {},
     )
     .unwrap();
-    let objects = orbit_files::read_oem_files(&[coarse_dir.join("swarm.oem")]).unwrap();
+    let files: Vec<std::path::PathBuf> = (0..3)
+        .map(|id| coarse_dir.join("oem").join(format!("sat-{id:05}.oem")))
+        .collect();
+    let objects = orbit_files::read_oem_files(&files).unwrap();
     assert_eq!(objects.len(), 3);
     let fine = satflock::output::RunData::read(&fine_dir).unwrap();
     let tracks = fine.inertial_tracks().unwrap();

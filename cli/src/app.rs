@@ -132,11 +132,16 @@ enum Command {
         /// A run's output directory (as written by `satflock run`).
         run_dir: PathBuf,
     },
-    /// Draw the figures of a run directory into RUN_DIR/plots/ (PNG and SVG): trajectories and
-    /// snapshots in Hill LVLH, metrics over time, delta-v. `satflock run` draws them too.
+    /// Draw the figures of a run directory into RUN_DIR/plots/ (PNG and SVG): relative motion in
+    /// the three RTN/Hill projections and snapshots, the nearest-neighbour separations at the end,
+    /// metrics over time, delta-v. `satflock run` draws them too.
     Plot {
         /// A run's output directory (as written by `satflock run`).
         run_dir: PathBuf,
+        /// Draw the tracks of these satellites only (ids, comma-separated; default: all, an evenly
+        /// spaced subsample beyond 200).
+        #[arg(long, value_delimiter = ',')]
+        satellites: Option<Vec<usize>>,
     },
     /// List the built-in scenarios with the first sentence of each description; `scenarios show NAME`
     /// prints one as TOML, to copy and edit.
@@ -452,7 +457,10 @@ where
             seeds.as_deref(),
         ),
         Command::Report { run_dir } => report_command(&run_dir, false),
-        Command::Plot { run_dir } => plot_command(&run_dir),
+        Command::Plot {
+            run_dir,
+            satellites,
+        } => plot_command(&run_dir, satellites.as_deref()),
         Command::Scenarios { action: None } => scenarios(),
         Command::Scenarios {
             action: Some(ScenariosAction::Show { name }),
@@ -683,9 +691,10 @@ fn report_command(dir: &Path, quiet: bool) -> Result<()> {
     Ok(())
 }
 
-fn plot_command(dir: &Path) -> Result<()> {
-    let report = crate::plot::draw_run(dir).map_err(|e| match e {
+fn plot_command(dir: &Path, satellites: Option<&[usize]>) -> Result<()> {
+    let report = crate::plot::draw_run_of(dir, satellites).map_err(|e| match e {
         crate::plot::PlotError::RunData(e) => usage(e.to_string()),
+        crate::plot::PlotError::Satellites(message) => usage(format!("--satellites: {message}")),
         other => anyhow::Error::from(other),
     })?;
     eprintln!("{}", report.describe(dir));

@@ -362,7 +362,9 @@ fn check_controller(controller: &Controller) -> Result<&'static [Headline], Stri
         }
     }
     let mut order: Vec<usize> = (0..file.events.len()).collect();
-    order.sort_by(|&a, &b| file.events[a].time_s.total_cmp(&file.events[b].time_s));
+    // Timed events in time order, then the condition events (whose time is not known before a run).
+    let time = |k: usize| file.events[k].time_s.unwrap_or(f64::INFINITY);
+    order.sort_by(|&a, &b| time(a).total_cmp(&time(b)));
     let mut current = file.law.clone();
     for k in order {
         match &file.events[k].action {

@@ -43,7 +43,8 @@ fn run_builtin(dir: &Path, name: &str, replacements: &[(&str, &str)]) -> PathBuf
 
 /// Every figure a run with a trajectory and law metrics gets, with its documented size [px]: the
 /// tracks figure 1800 × 680, delta-v 1400 × 520, the metric grids 4 panels of 420 × 290 per row plus a
-/// 50 px title, the snapshots 4 panels of 480 × 480 per row plus 50 px.
+/// 50 px title, the snapshots 4 panels of 480 × 480 per row plus 50 px, the nearest-neighbour
+/// separations 1000 × 560.
 fn expected_sizes(
     metric_panels: u32,
     law_panels: u32,
@@ -53,6 +54,7 @@ fn expected_sizes(
     vec![
         ("trajectories", (1800, 680)),
         ("snapshots", grid(snapshots, 480, 480)),
+        ("separations", (1000, 560)),
         ("swarm_metrics", grid(metric_panels, 420, 290)),
         ("law_metrics", grid(law_panels, 420, 290)),
         ("delta_v", (1400, 520)),
@@ -113,7 +115,7 @@ fn val_plots_of_a_threat_run_are_complete_labelled_and_deterministic() {
     let dir = temp_dir("threat");
     let run = run_builtin(&dir, "es-e0", &[]);
     let report = draw_run(&run).unwrap();
-    assert_eq!(report.written.len(), 10, "{report:?}");
+    assert_eq!(report.written.len(), 12, "{report:?}");
     assert!(report.skipped.is_empty(), "{report:?}");
     // 7 standard panels + the two threat monitors; the law's 6 metrics; no events: 4 snapshots.
     let sizes = expected_sizes(9, 6, 4);
@@ -125,10 +127,16 @@ fn val_plots_of_a_threat_run_are_complete_labelled_and_deterministic() {
                 "es-e0",
                 "kinetic-threat",
                 "target formation",
-                "danger sphere",
+                // Not "danger sphere": at its closest recorded approach es-e0's threat is farther
+                // out of the orbital plane than its danger radius, so the x–y panel (the one with
+                // the legend) no longer draws it (issue 30); the y–z and x–z panels do, named.
             ],
         ),
         ("snapshots", &["t = 0 s (start)", "t = 40 s (end)"]),
+        (
+            "separations",
+            &["nearest-neighbour distance [m]", "smallest", "median"],
+        ),
         (
             "swarm_metrics",
             &[
@@ -179,7 +187,7 @@ fn val_plots_of_an_obstacle_run_show_the_obstacles() {
         ],
     );
     let report = draw_run(&run).unwrap();
-    assert_eq!(report.written.len(), 10, "{report:?}");
+    assert_eq!(report.written.len(), 12, "{report:?}");
     let sizes = expected_sizes(9, 6, 4);
     let texts: &[(&str, &[&str])] = &[
         ("trajectories", TRACK_AXES),
@@ -258,7 +266,7 @@ fn val_cli_draws_after_runs_skips_with_no_plots_and_refuses_other_directories() 
     );
     let o = satflock().arg("plot").arg(&out).output().unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("5 figures"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("6 figures"));
     assert!(out.join("plots/law_metrics.png").is_file());
 
     // Not a run directory: exit 2, naming what is missing.
@@ -364,5 +372,47 @@ fn val_control_figure_of_a_control_history_run() {
     let threat = run_builtin(&dir, "es-e0", &[]);
     draw_run(&threat).unwrap();
     assert!(!threat.join("plots/control.png").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn val_conjunction_timeline_of_a_run_with_a_conjunction_monitor() {
+    // es-e0's threat passes through the cluster: with a threshold the pass is an encounter with the
+    // threat, and satellites that close on each other make pair encounters.
+    let dir = temp_dir("conjunctions");
+    let run = run_builtin(
+        &dir,
+        "es-e0",
+        &[("[law]", "[conjunctions]\nthreshold_m = 300.0\n\n[law]")],
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    let count = summary["conjunctions"]["count"].as_u64().unwrap();
+    assert!(count > 0, "no encounter to draw");
+    draw_run(&run).unwrap();
+    check_figures(
+        &run,
+        &[("conjunctions", (1000, 560))],
+        &[(
+            "conjunctions",
+            &[
+                "conjunction timeline",
+                &format!("{count} encounters below 300 m"),
+                "miss distance [m]",
+                "threshold 300 m",
+            ],
+        )],
+    );
+    let first = std::fs::read(run.join("plots/conjunctions.png")).unwrap();
+    draw_run(&run).unwrap();
+    assert_eq!(
+        first,
+        std::fs::read(run.join("plots/conjunctions.png")).unwrap()
+    );
+    let html = satflock_cli::report::render(&run).unwrap();
+    assert!(html.contains("<figcaption>conjunctions.svg</figcaption>"));
+    let without = run_builtin(&dir, "es-e0", &[]);
+    draw_run(&without).unwrap();
+    assert!(!without.join("plots/conjunctions.png").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -396,7 +396,8 @@ pub fn check_record(campaign: &Campaign, out: &Path, record: &RunRecord) -> Resu
             spec.seed
         ));
     }
-    let completed = summary["status"].as_str() == Some("completed");
+    // A run ended by its own `stop-run` event completed as its scenario asked.
+    let completed = matches!(summary["status"].as_str(), Some("completed" | "stopped"));
     if completed != (record.status == Status::Completed) {
         return Err(format!(
             "status {}, but {} says {}",

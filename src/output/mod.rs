@@ -1,6 +1,6 @@
 //! A run's outputs: the columns and row values of its tables, their streamed writers (CSV:
 //! `metrics.csv`, `trajectory.csv`; Parquet: `metrics.parquet`, `trajectory.parquet`), the JSON run
-//! summary (`summary.json`), the names of their frames and time system, the scene geometry
+//! summary (`summary.json`), the log of event firings (`events.jsonl`), the names of their frames and time system, the scene geometry
 //! (`scene.json`), the reader of a run directory, and the exports made from it: CCSDS OEM (`oem`) and
 //! CZML (`czml`).
 
@@ -9,6 +9,7 @@ pub mod columns;
 pub mod conjunctions;
 pub mod csv_recorder;
 pub mod czml;
+pub mod events_log;
 pub mod export;
 pub mod frames;
 pub mod oem;
@@ -22,6 +23,7 @@ pub mod summary;
 
 pub use columns::OutputColumns;
 pub use csv_recorder::CsvRecorder;
+pub use events_log::EventLog;
 pub use export::{ExportError, InertialTrack};
 pub use outcomes::{scalar_outcomes, RunTable};
 pub use parquet_recorder::{ParquetRecorder, RunMetadata};
@@ -29,4 +31,4 @@ pub use recorder::{OutputFormat, RunRecorder, TableFormats};
 pub use run_data::{RunData, RunDataError, Table};
 pub use scene::Scene;
 pub use spread::Spread;
-pub use summary::{DeltaVSummary, DynamicsSummary, RunStatus, RunSummary};
+pub use summary::{DeltaVSummary, DynamicsSummary, RunStatus, RunSummary, StoppedBy};

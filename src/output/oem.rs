@@ -71,10 +71,11 @@ pub const INTERPOLATION_DEGREE: usize = 5;
 /// The environment variable that fixes `CREATION_DATE` (seconds since the Unix epoch).
 pub const SOURCE_DATE_EPOCH: &str = "SOURCE_DATE_EPOCH";
 
-/// The OEM file a run directory holds (`[output] oem = true`, or `satflock export oem`).
+/// The non-standard single OEM file of a run directory (`satflock export oem --single-file`).
 pub const RUN_FILE: &str = "swarm.oem";
 
-/// The folder of per-satellite OEM files in a run directory (`satflock export oem --per-satellite`).
+/// The folder of per-satellite OEM files in a run directory (`[output] oem = true`, or
+/// `satflock export oem`).
 pub const RUN_DIR_NAME: &str = "oem";
 
 /// Longest `COMMENT` text on one line (the standard allows lines of up to 254 characters).

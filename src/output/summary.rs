@@ -20,6 +20,24 @@ pub enum RunStatus {
     /// Stopped by a signal (SIGINT, SIGTERM) after a whole segment; every file is valid up to
     /// `simulated_s`.
     Interrupted,
+    /// Ended early by a `stop-run` event (`stopped_by` names it); every file is valid up to
+    /// `simulated_s`.
+    Stopped,
+}
+
+/// The `stop-run` event that ended a run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StoppedBy {
+    /// The event's index in the scenario's `[[events]]`.
+    pub event: usize,
+    /// Its key (`events[K]`, or `controller events[K]` for a controller file's).
+    pub key: String,
+    /// When it fired \[s\].
+    pub time_s: f64,
+    /// What triggered it: `time_s`, or the condition's key.
+    pub trigger: String,
+    /// The condition's value when it fired (absent for a timed event).
+    pub value: Option<f64>,
 }
 
 /// Delta-v statistics over the live satellites \[m/s\].
@@ -169,6 +187,11 @@ pub struct RunSummary {
     pub status: RunStatus,
     /// The error that stopped the run, if any.
     pub error: Option<String>,
+    /// The `stop-run` event that ended the run (status `stopped`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped_by: Option<StoppedBy>,
+    /// Every event firing, in firing order (as in `events.jsonl`).
+    pub events: Vec<crate::swarm::Firing>,
     /// What the user should know about although the run completed, one sentence each: first what was
     /// found when the scenario was loaded (e.g. a `pigeon` law's initial link graph that is not
     /// connected, [`crate::scenario::Prepared::warnings`]), then what the run did (collisions, a

@@ -292,7 +292,7 @@ mod tests {
             merged.file.events[0].action,
             ActionSection::FailThruster { satellite: 3, .. }
         ));
-        assert_eq!(merged.file.events[0].time_s, 2000.0);
+        assert_eq!(merged.file.events[0].time_s, Some(2000.0));
         assert!(matches!(
             merged.file.events[1].action,
             ActionSection::SwitchLaw { .. }

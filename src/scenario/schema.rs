@@ -524,14 +524,79 @@ pub enum AxisName {
     All,
 }
 
-/// `[[events]]`: `time_s` and an `action` with its keys (unknown keys are refused by the action).
+/// `[[events]]`: when — `time_s` or a `condition` (one of them) — and an `action` with its keys
+/// (unknown keys are refused by the action).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EventSection {
-    /// When \[s\].
-    pub time_s: f64,
+    /// When \[s\] (an event fires at a time or on a condition).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time_s: Option<f64>,
+    /// On what state of the swarm it fires (instead of `time_s`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub condition: Option<ConditionSection>,
     /// What.
     #[serde(flatten)]
     pub action: ActionSection,
+}
+
+impl EventSection {
+    /// The event that fires at `time_s` \[s\].
+    pub fn at(time_s: f64, action: ActionSection) -> Self {
+        Self {
+            time_s: Some(time_s),
+            condition: None,
+            action,
+        }
+    }
+}
+
+/// An event's `condition`: one test (`min_separation_below_m`, `threat_within_m`,
+/// `formation_reached`, `satellites_lost_at_least` or `law_outcome`) with its own keys, how often it
+/// fires (`repeat`) and its hysteresis (`docs/scenarios.md`, "Condition events").
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ConditionSection {
+    /// Fires when the minimum separation between two live satellites is below this \[m\].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_separation_below_m: Option<f64>,
+    /// Fires when a live satellite comes within this distance of a threat \[m\].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threat_within_m: Option<f64>,
+    /// `true`: fires when the formation is reached (the law's own report, or `uniformity_l` within
+    /// `uniformity_tolerance`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub formation_reached: Option<bool>,
+    /// With `formation_reached`: the target uniformity L of the five elements (dimensionless).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uniformity_l: Option<f64>,
+    /// With `uniformity_l`: the largest |L − target| that counts as reached (dimensionless).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uniformity_tolerance: Option<f64>,
+    /// Fires when at least this many satellites have been removed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub satellites_lost_at_least: Option<usize>,
+    /// `true`: fires when the conjunction monitor (`[conjunctions] threshold_m`) finds an encounter.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conjunction: Option<bool>,
+    /// Fires when this declared outcome of the running law crosses `above` or `below`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub law_outcome: Option<String>,
+    /// With `law_outcome`: fires when it is greater than this (in the outcome's unit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub above: Option<f64>,
+    /// With `law_outcome`: fires when it is less than this (in the outcome's unit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub below: Option<f64>,
+    /// With a distance condition: how far back past the threshold the distance must come before a
+    /// repeating condition re-arms \[m\] (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hysteresis_m: Option<f64>,
+    /// With `law_outcome` or `uniformity_l`: the same, in the outcome's unit (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hysteresis: Option<f64>,
+    /// Fire at every crossing (after re-arming), not only the first (default false).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub repeat: Option<bool>,
 }
 
 /// Event actions.
@@ -577,6 +642,10 @@ pub enum ActionSection {
         /// Which axis.
         axis: AxisName,
     },
+    /// End the run (`summary.json` `status = "stopped"`, naming the event).
+    StopRun,
+    /// An extra recorder snapshot (a row of the tables) at this time.
+    RecordSnapshot,
 }
 
 /// `[output]`.

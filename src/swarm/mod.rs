@@ -23,7 +23,10 @@ mod storage_order;
 pub use actuator::{Actuator, LimitKind};
 pub use drag_attitude::{DragAttitudeError, DragAttitudes, DragCommand, MAX_DRAG_MODES};
 pub use dynamics::DynamicsModel;
-pub use events::{Event, EventAction, Selection, ThrustAxis};
+pub use events::{
+    Bound, Condition, ConditionTest, Event, EventAction, Firing, Selection, ThrustAxis, Trigger,
+    SHAPE_REACHED,
+};
 pub use law::{
     Better, Broadcast, Centralised, CommandKind, CommandsDrag, Diagnostics, EnvironmentView,
     GuidanceLaw, Headline, Law, LawContext, LawError, LawParameters, Neighbour, Reports,

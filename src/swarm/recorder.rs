@@ -5,6 +5,7 @@ use nalgebra::Vector3;
 
 use crate::metrics::FiveElements;
 use crate::orbit::{CartesianState, RelativeStateHill};
+use crate::swarm::events::Firing;
 
 /// The swarm at one recording time.
 #[derive(Debug)]
@@ -76,6 +77,11 @@ pub struct EnvironmentSnapshot {
 pub trait Recorder {
     /// Records one snapshot. An error stops the run.
     fn record(&mut self, snapshot: &Snapshot<'_>) -> std::io::Result<()>;
+
+    /// Takes in one firing of an event, in firing order (default: ignored). An error stops the run.
+    fn event_fired(&mut self, _firing: &Firing) -> std::io::Result<()> {
+        Ok(())
+    }
 }
 
 /// A recorder that discards everything (benchmarks, runs that only want the summary).

@@ -4,8 +4,10 @@
 //!
 //! | figure | from | module |
 //! | --- | --- | --- |
-//! | `trajectories`: the three plane projections in Hill LVLH, start and end, target formation, threats, obstacles | `trajectory.csv`, `scene.json` | `tracks.rs` |
-//! | `snapshots`: the formation in its main plane at t = 0, before each event and at the end | `trajectory.csv`, `scene.json`, `scenario.toml` | `tracks.rs` |
+//! | `trajectories`: the relative motion in the three RTN/Hill projections (radial–along-track, along-track–cross-track, radial–cross-track) of all satellites or the chosen ones (`--satellites`), start and end, target formation, threats and obstacles where they meet the slab shown | `trajectory.csv`, `scene.json` | `tracks.rs` |
+//! | `snapshots`: the formation in its main plane at t = 0, before each event (timed, or a condition event's firing) and at the end | `trajectory.csv`, `scene.json`, `scenario.toml`, `summary.json` | `tracks.rs` |
+//! | `separations`: histogram of each satellite's nearest-neighbour distance at the last recording | `trajectory.csv` | `separation.rs` |
+//! | `conjunctions` (runs with `[conjunctions]`): the conjunction timeline, each encounter's miss distance at its time of closest approach, by kind of secondary, with the threshold | `conjunctions.csv` / `.parquet`, `summary.json` | `conjunction.rs` |
 //! | `swarm_metrics`: five elements, minimum separation, threat and obstacle monitors over time | `metrics.csv` | `series.rs` |
 //! | `law_metrics`: every metric column of the law(s) | `metrics.csv` | `series.rs` |
 //! | `delta_v`: Δv per satellite, cumulative mean and max over time | `summary.json`, `metrics.csv` | `delta_v.rs` |
@@ -26,10 +28,12 @@
 //! spaced by index). Each cut is said on the figure and on stderr ([`PlotReport::describe`]).
 
 mod campaign;
+mod conjunction;
 mod control;
 mod delta_v;
 mod drag;
 pub mod overlay;
+mod separation;
 mod series;
 mod tracks;
 
@@ -89,6 +93,9 @@ pub enum PlotError {
         /// What went wrong.
         message: String,
     },
+    /// The satellites asked for are not in the run's trajectory (the user's input).
+    #[error("{0}")]
+    Satellites(String),
 }
 
 /// A drawing error inside one figure (turned into [`PlotError::Write`] naming the file).
@@ -156,6 +163,11 @@ fn register_embedded_font() -> Result<(), PlotError> {
 
 /// Reads the run directory `dir` and draws every figure it has the data for into `dir/plots/`.
 pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
+    draw_run_of(dir, None)
+}
+
+/// [`draw_run`] with the tracks of the satellites `only` lists (all when `None`).
+pub fn draw_run_of(dir: &Path, only: Option<&[usize]>) -> Result<PlotReport, PlotError> {
     let run = RunData::read(dir)?;
     register_embedded_font()?;
     let out = dir.join("plots");
@@ -165,7 +177,7 @@ pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
     })?;
     let context = RunContext::new(&run);
     let mut report = PlotReport::default();
-    match tracks::Tracks::read(&run) {
+    match tracks::Tracks::read(&run, only).map_err(PlotError::Satellites)? {
         Some(tracks) => {
             report.cuts.extend(tracks::scene_cuts(&run.scene));
             write_figure(
@@ -180,13 +192,16 @@ pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
             )?;
         }
         None => {
-            for name in ["trajectories", "snapshots"] {
+            for name in ["trajectories", "snapshots", "separations"] {
                 report.skipped.push((
                     name.into(),
                     "the run wrote no trajectory.csv ([output] trajectory = false)".into(),
                 ));
             }
         }
+    }
+    if let Some(figure) = separation::Separations::new(&context) {
+        write_figure(&out, &figure, &mut report)?;
     }
     write_figure(&out, &series::SwarmMetrics::new(&context), &mut report)?;
     match series::LawMetrics::new(&context) {
@@ -199,6 +214,10 @@ pub fn draw_run(dir: &Path) -> Result<PlotReport, PlotError> {
     write_figure(&out, &delta_v::DeltaV::new(&context), &mut report)?;
     // Only for runs whose satellites have drag attitudes (not "skipped" elsewhere: it does not apply).
     if let Some(figure) = drag::Drag::new(&context) {
+        write_figure(&out, &figure, &mut report)?;
+    }
+    // Only for runs that monitored conjunctions (`[conjunctions]`).
+    if let Some(figure) = conjunction::Conjunctions::new(&context) {
         write_figure(&out, &figure, &mut report)?;
     }
     // Only for runs that recorded their control history (`[output] control_history`).

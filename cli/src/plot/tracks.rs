@@ -1,16 +1,21 @@
 //! Figures of the satellites' positions in Hill LVLH (x radial out, y along-track, z orbit normal,
 //! relative to the LVLH origin), from `trajectory.csv` and `scene.json`:
 //!
-//! * `trajectories`: the x–y, y–z and x–z projections of every drawn track, start (open circle) and end
-//!   (dot), the law's target formation at t = 0 (grey crosses), threats (their line over the run, and
-//!   the danger sphere at the threat's closest recorded approach to a drawn satellite) and obstacles
-//!   (their spheres, which project to circles);
+//! * `trajectories`: the relative motion in the three projections of the RTN/Hill frame
+//!   (radial–along-track, along-track–cross-track, radial–cross-track) of every drawn track (all
+//!   satellites, a subsample, or those `satflock plot --satellites` chooses), start (open circle) and
+//!   end (dot), the law's target formation at t = 0 (grey crosses), threats (their line over the run,
+//!   and the danger sphere at the threat's closest recorded approach to a drawn satellite) and
+//!   obstacles (their spheres, which project to circles);
 //! * `snapshots`: the formation in its main plane (the two axes of largest extent) at t = 0, at the last
 //!   recording before each event of `scenario.toml` and at the end (at most [`MAX_SNAPSHOTS`] panels;
 //!   with no events, at t = 0, T/3, 2T/3 and T), with the target formation in the panels before the first
 //!   event.
 //!
-//! Both use equal scales on their two axes, so circles look round. At most
+//! Both use equal scales on their two axes, so circles look round. A projection shows the box the drawn
+//! tracks span along its third axis: a threat or obstacle is drawn in a projection only where its
+//! sphere meets that box (a threat's path only over the times it does, its danger sphere only at a
+//! time it does), never projected onto the formation from far out of the plane. At most
 //! [`MAX_SCENE_OBJECTS`](super::MAX_SCENE_OBJECTS) threats and as many obstacles are drawn (evenly spaced
 //! by index; the figure's title and [`scene_cuts`] say so).
 
@@ -38,10 +43,15 @@ const AXIS_NAMES: [&str; 3] = ["x radial [m]", "y along-track [m]", "z orbit nor
 
 /// The three projections: (horizontal axis, vertical axis, caption).
 const PROJECTIONS: [(usize, usize, &str); 3] = [
-    (1, 0, "x–y plane (orbital plane)"),
-    (1, 2, "y–z plane"),
-    (0, 2, "x–z plane"),
+    (1, 0, "radial–along-track (x–y, orbital plane)"),
+    (1, 2, "along-track–cross-track (y–z)"),
+    (0, 2, "radial–cross-track (x–z)"),
 ];
+
+/// The Hill axis a projection onto axes `h` and `v` leaves out.
+fn third_axis(h: usize, v: usize) -> usize {
+    3 - h - v
+}
 
 /// Most target-formation points drawn (evenly spaced by index beyond).
 pub const MAX_TARGET_POINTS: usize = 1000;
@@ -84,31 +94,55 @@ impl Track {
 pub(crate) struct Tracks {
     /// Satellites in `trajectory.csv`.
     pub total: usize,
-    /// Drawn satellites (all, or an evenly spaced subsample of ids), in id order.
+    /// Drawn satellites (all, an evenly spaced subsample of ids, or the chosen ones), in id order.
     pub drawn: Vec<Track>,
+    /// Whether the drawn satellites are the ones the caller chose.
+    chosen: bool,
     /// Every recording time \[s\], sorted.
     pub times: Vec<f64>,
 }
 
 impl Tracks {
-    /// The tracks of the run's trajectory (`None` when the run wrote none). The rows were checked by
-    /// [`RunData::read`]: times and positions have values, ids are satellite indices.
-    pub fn read(run: &RunData) -> Option<Self> {
-        let table = run.trajectory.as_ref()?;
-        let t = table.column("t_s")?;
-        let id = table.column("id")?;
-        let xyz = [
-            table.column("x_lvlh_m")?,
-            table.column("y_lvlh_m")?,
-            table.column("z_lvlh_m")?,
-        ];
+    /// The tracks of the run's trajectory (`Ok(None)` when the run wrote none): of the satellites
+    /// `only` lists, or of all (an evenly spaced subsample beyond [`MAX_TRACKS`]). The rows were
+    /// checked by [`RunData::read`]: times and positions have values, ids are satellite indices.
+    ///
+    /// # Errors
+    /// A satellite of `only` that the trajectory does not hold, with the ids it holds.
+    pub fn read(run: &RunData, only: Option<&[usize]>) -> Result<Option<Self>, String> {
+        let Some(table) = run.trajectory.as_ref() else {
+            return Ok(None);
+        };
+        let (Some(t), Some(id), Some(x), Some(y), Some(z)) = (
+            table.column("t_s"),
+            table.column("id"),
+            table.column("x_lvlh_m"),
+            table.column("y_lvlh_m"),
+            table.column("z_lvlh_m"),
+        ) else {
+            return Ok(None);
+        };
+        let xyz = [x, y, z];
         let ids: BTreeSet<usize> = id.iter().map(|v| *v as usize).collect();
         let ids: Vec<usize> = ids.into_iter().collect();
         let total = ids.len();
-        let chosen: BTreeSet<usize> = evenly_spaced(total, MAX_TRACKS)
-            .into_iter()
-            .map(|k| ids[k])
-            .collect();
+        let chosen: BTreeSet<usize> = match only {
+            Some(only) => {
+                if let Some(missing) = only.iter().find(|i| ids.binary_search(i).is_err()) {
+                    return Err(format!(
+                        "satellite {missing} is not in the trajectory (allowed: ids 0..{}; {} \
+                         satellites recorded)",
+                        ids.last().map_or(0, |last| last + 1),
+                        total
+                    ));
+                }
+                only.iter().copied().collect()
+            }
+            None => evenly_spaced(total, MAX_TRACKS)
+                .into_iter()
+                .map(|k| ids[k])
+                .collect(),
+        };
         let mut tracks: BTreeMap<usize, Track> = BTreeMap::new();
         let mut times = BTreeSet::new();
         for row in 0..table.rows() {
@@ -128,16 +162,20 @@ impl Tracks {
         let mut times: Vec<f64> = times.into_iter().map(f64::from_bits).collect();
         times.sort_by(f64::total_cmp);
         let drawn: Vec<Track> = tracks.into_values().collect();
-        (!drawn.is_empty()).then_some(Self {
+        Ok((!drawn.is_empty()).then_some(Self {
             total,
             drawn,
+            chosen: only.is_some(),
             times,
-        })
+        }))
     }
 
-    /// What the tracks show, for a title: all satellites, or the subsample.
+    /// What the tracks show, for a title: all satellites, the chosen ones, or the subsample.
     fn coverage(&self) -> String {
-        if self.drawn.len() < self.total {
+        if self.chosen {
+            let ids: Vec<String> = self.drawn.iter().map(|t| t.id.to_string()).collect();
+            format!("satellites {} of {}", ids.join(", "), self.total)
+        } else if self.drawn.len() < self.total {
             format!(
                 "{} of {} satellites shown (evenly spaced ids)",
                 self.drawn.len(),
@@ -155,6 +193,52 @@ impl Tracks {
     /// Every position of every drawn track.
     fn points(&self) -> impl Iterator<Item = &[f64; 3]> {
         self.drawn.iter().flat_map(|t| t.p.iter())
+    }
+
+    /// The extent of the drawn tracks along Hill axis `axis` \[m\]: the depth a projection leaving
+    /// that axis out shows.
+    fn depth(&self, axis: usize) -> Depth {
+        let (lo, hi) = self
+            .points()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p[axis]), hi.max(p[axis]))
+            });
+        Depth { axis, lo, hi }
+    }
+}
+
+/// The slab a projection shows along the axis it leaves out: the drawn tracks' extent \[m\].
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Depth {
+    axis: usize,
+    lo: f64,
+    hi: f64,
+}
+
+impl Depth {
+    /// Whether a sphere of radius `r` about `c` meets the slab.
+    fn meets(&self, c: &[f64; 3], r: f64) -> bool {
+        c[self.axis] + r >= self.lo && c[self.axis] - r <= self.hi
+    }
+
+    /// The times within `span` \[s\] at which `threat`'s danger sphere meets the slab (its path is
+    /// a straight line: one interval, or none).
+    fn threat_span(&self, threat: &SceneThreat, span: (f64, f64)) -> Option<(f64, f64)> {
+        let r = threat.danger_radius_m;
+        let (lo, hi) = (self.lo - r, self.hi + r);
+        let c0 = threat.position_lvlh_m(0.0)[self.axis];
+        let rate = threat.velocity_lvlh_mps[self.axis];
+        let (a, b) = if rate == 0.0 {
+            if (lo..=hi).contains(&c0) {
+                span
+            } else {
+                return None;
+            }
+        } else {
+            let (t1, t2) = ((lo - c0) / rate, (hi - c0) / rate);
+            (t1.min(t2).max(span.0), t1.max(t2).min(span.1))
+        };
+        (a <= b).then_some((a, b))
     }
 }
 
@@ -382,18 +466,35 @@ struct Scene<'a> {
     threats: Vec<ThreatMark<'a>>,
     /// Time span of the threat lines \[s\].
     threat_span_s: (f64, f64),
+    /// The slab the panel shows along its third axis: obstacles, danger spheres and threat paths
+    /// are drawn only where they meet it.
+    depth: Depth,
 }
 
 impl Scene<'_> {
+    /// The obstacles whose sphere meets the panel's slab.
+    fn obstacles(&self) -> impl Iterator<Item = &SceneObstacle> {
+        self.obstacles
+            .iter()
+            .filter(|o| self.depth.meets(&o.center_lvlh_m, o.radius_m))
+    }
+
+    /// The danger spheres that meet the panel's slab.
+    fn threats(&self) -> impl Iterator<Item = &ThreatMark<'_>> {
+        self.threats
+            .iter()
+            .filter(|m| self.depth.meets(&m.center, m.threat.danger_radius_m))
+    }
+
     /// Adds what must be inside the panel (targets, obstacles, danger spheres) to `bounds`.
     fn bound(&self, bounds: &mut Bounds, h: usize, v: usize) {
         for p in self.targets.map_or(&[][..], |t| &t.points) {
             bounds.add(p[h], p[v]);
         }
-        for o in self.obstacles {
+        for o in self.obstacles() {
             bounds.add_circle(o.center_lvlh_m[h], o.center_lvlh_m[v], o.radius_m);
         }
-        for m in &self.threats {
+        for m in self.threats() {
             bounds.add_circle(m.center[h], m.center[v], m.threat.danger_radius_m);
         }
     }
@@ -409,7 +510,7 @@ impl Scene<'_> {
         time: &super::TimeAxis,
     ) -> Result<(), DrawError> {
         let (x_range, y_range) = (chart.x_range(), chart.y_range());
-        for (k, o) in self.obstacles.iter().enumerate() {
+        for (k, o) in self.obstacles().enumerate() {
             let outline = circle(o.center_lvlh_m[h], o.center_lvlh_m[v], o.radius_m);
             chart.draw_series(std::iter::once(Polygon::new(
                 outline.clone(),
@@ -431,9 +532,15 @@ impl Scene<'_> {
             )))?;
         }
         for (k, m) in self.threats.iter().enumerate() {
-            let a = m.threat.position_lvlh_m(self.threat_span_s.0);
-            let b = m.threat.position_lvlh_m(self.threat_span_s.1);
-            if let Some(segment) = clip_segment((a[h], a[v]), (b[h], b[v]), &x_range, &y_range) {
+            // The path over the times its danger sphere meets the slab.
+            let segment = self
+                .depth
+                .threat_span(m.threat, self.threat_span_s)
+                .and_then(|(t0, t1)| {
+                    let (a, b) = (m.threat.position_lvlh_m(t0), m.threat.position_lvlh_m(t1));
+                    clip_segment((a[h], a[v]), (b[h], b[v]), &x_range, &y_range)
+                });
+            if let Some(segment) = segment {
                 let series = chart.draw_series(std::iter::once(DashedPathElement::new(
                     segment,
                     6,
@@ -441,15 +548,20 @@ impl Scene<'_> {
                     THREAT_COLOUR.stroke_width(1),
                 )))?;
                 if labelled && k == 0 {
-                    series.label("threat path over the run").legend(|(x, y)| {
-                        DashedPathElement::new(
-                            vec![(x, y), (x + 20, y)],
-                            6,
-                            4,
-                            THREAT_COLOUR.stroke_width(1),
-                        )
-                    });
+                    series
+                        .label("threat path (where it is in the slab shown)")
+                        .legend(|(x, y)| {
+                            DashedPathElement::new(
+                                vec![(x, y), (x + 20, y)],
+                                6,
+                                4,
+                                THREAT_COLOUR.stroke_width(1),
+                            )
+                        });
                 }
+            }
+            if !self.depth.meets(&m.center, m.threat.danger_radius_m) {
+                continue;
             }
             let series = chart.draw_series(std::iter::once(PathElement::new(
                 circle(m.center[h], m.center[v], m.threat.danger_radius_m),
@@ -502,7 +614,7 @@ impl<'a> Trajectories<'a> {
         }
     }
 
-    fn scene(&self) -> Scene<'_> {
+    fn scene(&self, depth: Depth) -> Scene<'_> {
         Scene {
             targets: self.targets.as_ref(),
             obstacles: &self.objects.obstacles,
@@ -513,6 +625,7 @@ impl<'a> Trajectories<'a> {
                 .map(|t| closest_recorded_approach(t, self.tracks))
                 .collect(),
             threat_span_s: (0.0, self.tracks.t_end()),
+            depth,
         }
     }
 }
@@ -538,7 +651,6 @@ impl Figure for Trajectories<'_> {
         }
         let title = self.context.title(&what);
         let body = figure_title(root, &title)?;
-        let scene = self.scene();
         for (k, (area, (h, v, name))) in body
             .split_evenly((1, 3))
             .iter()
@@ -546,6 +658,7 @@ impl Figure for Trajectories<'_> {
             .enumerate()
         {
             let area = caption(area, name)?;
+            let scene = self.scene(self.tracks.depth(third_axis(h, v)));
             let mut bounds = Bounds::new();
             for p in self.tracks.points() {
                 bounds.add(p[h], p[v]);
@@ -621,20 +734,27 @@ impl<'a> Snapshots<'a> {
     }
 }
 
-/// Event times of the run's `scenario.toml`, sorted (none if it is missing or unreadable).
+/// Event times of the run, sorted: the timed events of its `scenario.toml` and the firings of its
+/// condition events (`summary.json` `events`); none of a file that is missing or unreadable.
 fn event_times_s(run: &RunData) -> Vec<f64> {
-    let Ok(text) = satflock::input_file::read_document(&run.dir.join("scenario.toml")) else {
-        return Vec::new();
-    };
-    let Ok(file) = toml::from_str::<ScenarioFile>(&text) else {
-        return Vec::new();
-    };
-    let mut times: Vec<f64> = file
-        .events
-        .iter()
-        .map(|e| e.time_s)
-        .filter(|t| t.is_finite())
-        .collect();
+    let mut times: Vec<f64> = run
+        .summary
+        .get("events")
+        .and_then(|e| e.as_array())
+        .map(|firings| {
+            firings
+                .iter()
+                .filter_map(|f| f.get("time_s")?.as_f64())
+                .collect()
+        })
+        .unwrap_or_default();
+    let file = satflock::input_file::read_document(&run.dir.join("scenario.toml"))
+        .ok()
+        .and_then(|text| toml::from_str::<ScenarioFile>(&text).ok());
+    if let Some(file) = file {
+        times.extend(file.events.iter().filter_map(|e| e.time_s));
+    }
+    times.retain(|t| t.is_finite());
     times.sort_by(f64::total_cmp);
     times.dedup();
     times
@@ -740,6 +860,7 @@ impl Figure for Snapshots<'_> {
         let panels = body.split_evenly((n.div_ceil(4), n.min(4)));
         // One range for every panel (all recordings, the targets and obstacles), so sizes compare.
         let objects = &self.objects;
+        let depth = self.tracks.depth(third_axis(h, v));
         let mut bounds = Bounds::new();
         for p in self.tracks.points() {
             bounds.add(p[h], p[v]);
@@ -749,6 +870,7 @@ impl Figure for Snapshots<'_> {
             obstacles: &objects.obstacles,
             threats: Vec::new(),
             threat_span_s: (0.0, 0.0),
+            depth,
         }
         .bound(&mut bounds, h, v);
         for (area, (t, what)) in panels.iter().zip(&self.times) {
@@ -762,7 +884,7 @@ impl Figure for Snapshots<'_> {
                 equal_scale_ranges(bounds.ranges(), plotting_pixels(area.dim_in_pixel()));
             let mut chart = panel(&area, hr.clone(), vr.clone())?;
             axes(&mut chart, AXIS_NAMES[h], AXIS_NAMES[v])?;
-            // Threats whose danger sphere at this time is inside the panel.
+            // Threats whose danger sphere at this time is inside the panel and its slab.
             let threats: Vec<ThreatMark<'_>> = objects
                 .threats
                 .iter()
@@ -771,7 +893,11 @@ impl Figure for Snapshots<'_> {
                     t_s: *t,
                     center: threat.position_lvlh_m(*t),
                 })
-                .filter(|m| hr.contains(&m.center[h]) && vr.contains(&m.center[v]))
+                .filter(|m| {
+                    hr.contains(&m.center[h])
+                        && vr.contains(&m.center[v])
+                        && depth.meets(&m.center, m.threat.danger_radius_m)
+                })
                 .collect();
             let before_events = *t < self.first_event_s;
             Scene {
@@ -779,6 +905,7 @@ impl Figure for Snapshots<'_> {
                 obstacles: &objects.obstacles,
                 threats,
                 threat_span_s: (*t, *t),
+                depth,
             }
             .draw(&mut chart, h, v, false, time)?;
             chart.draw_series(self.tracks.drawn.iter().filter_map(|track| {
@@ -807,6 +934,36 @@ mod tests {
             clip_segment((2.0, 2.0), (3.0, 3.0), &h, &v),
             Some([(2.0, 2.0), (3.0, 3.0)])
         );
+    }
+
+    /// Issue 30: a threat 1500 km out of the plotted plane was drawn on the formation. A projection
+    /// shows a threat only where its danger sphere meets the slab of the drawn tracks.
+    #[test]
+    fn threats_are_drawn_only_where_they_meet_the_slab() {
+        let depth = Depth {
+            axis: 2,
+            lo: -100.0,
+            hi: 100.0,
+        };
+        let threat = SceneThreat {
+            name: "t".into(),
+            danger_radius_m: 10.0,
+            position_at_t0_lvlh_m: [0.0, 0.0, 1.5e6],
+            velocity_lvlh_mps: [0.0, 0.0, -500.0],
+        };
+        // Its sphere meets z in [-110, 110] m from t = (1.5e6 - 110) / 500 to (1.5e6 + 110) / 500.
+        let (a, b) = depth.threat_span(&threat, (0.0, 6000.0)).unwrap();
+        assert!((a - (1.5e6 - 110.0) / 500.0).abs() < 1e-9, "{a}");
+        assert!((b - (1.5e6 + 110.0) / 500.0).abs() < 1e-9, "{b}");
+        assert!(!depth.meets(&threat.position_lvlh_m(0.0), 10.0));
+        assert!(depth.meets(&threat.position_lvlh_m(3000.0), 10.0));
+        assert_eq!(depth.threat_span(&threat, (0.0, 2000.0)), None);
+        let parked = SceneThreat {
+            velocity_lvlh_mps: [1.0, 0.0, 0.0],
+            ..threat
+        };
+        assert_eq!(parked.position_lvlh_m(0.0)[2], 1.5e6);
+        assert_eq!(depth.threat_span(&parked, (0.0, 6000.0)), None);
     }
 
     #[test]

@@ -247,7 +247,10 @@ pub fn scenario_of(job: &CaseJob) -> Result<Scenario, ValidateError> {
     let mut scenario = Scenario::load(job.builtin).map_err(failed)?;
     if let Some(d) = job.duration_s {
         scenario.file.duration_s = d;
-        scenario.file.events.retain(|e| e.time_s <= d);
+        scenario
+            .file
+            .events
+            .retain(|e| e.time_s.is_none_or(|t| t <= d));
     }
     if !job.process_noise {
         scenario.file.dynamics.process_noise_mps2 = 0.0;
@@ -281,7 +284,7 @@ pub fn run_case(job: &CaseJob) -> Result<CaseRun, ValidateError> {
             .filter(|e| {
                 matches!(e.action, ActionSection::ThreatWarning { threat: 0, active: a } if a == active)
             })
-            .map(|e| e.time_s)
+            .filter_map(|e| e.time_s)
             .reduce(f64::min)
     };
     let (warning_on_s, warning_off_s) = (warning(true), warning(false));

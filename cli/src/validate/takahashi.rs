@@ -585,12 +585,12 @@ impl Plane {
         s.file.record_interval_s = 60.0;
         s.file
             .events
-            .push(satflock::scenario::schema::EventSection {
-                time_s: end,
-                action: satflock::scenario::schema::ActionSection::CutLinks {
+            .push(satflock::scenario::schema::EventSection::at(
+                end,
+                satflock::scenario::schema::ActionSection::CutLinks {
                     satellites: satflock::scenario::schema::SelectionSection::Word("all".into()),
                 },
-            });
+            ));
         let run = traced_run(&s, 1800.0, end).map_err(failed)?;
         // Statistics at the end of the controlled run (before the free orbit): trim the coarse samples.
         let mut at_end = run.clone();

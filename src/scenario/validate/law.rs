@@ -1,15 +1,13 @@
-//! `[law]` and `[[events]]`: the law built and checked against the dynamics, the timing and the swarm,
-//! and every law change of the timeline replayed and checked at load time.
+//! `[law]`: the law built and checked against the dynamics, the timing and the swarm (the events'
+//! law changes are checked with the same functions, in `events`).
 
 use nalgebra::Vector3;
 use serde::Deserialize;
 
 use crate::guidance::LawConfig;
-use crate::scenario::schema::{ActionSection, AxisName, SelectionSection};
-use crate::scenario::{Scenario, ScenarioError};
+use crate::scenario::ScenarioError;
 use crate::swarm::{
-    check_law_fits, Event, EventAction, Law, LawError, Origin, SatelliteInit, Selection, SimError,
-    SimulationConfig, SwarmFacts, ThrustAxis,
+    check_law_fits, Law, LawError, SatelliteInit, SimError, SimulationConfig, SwarmFacts,
 };
 
 use super::Checker;
@@ -107,134 +105,4 @@ pub fn merge_law_parameters(
 /// or the event that sets it).
 fn law_error(c: &Checker<'_>, key: &str, e: LawError) -> ScenarioError {
     c.keys(key, e.to_string(), "")
-}
-
-/// A satellite selection of an event (`"all"` or ids among `count`).
-fn selection(
-    c: &Checker<'_>,
-    key: &str,
-    s: &SelectionSection,
-    count: usize,
-) -> Result<Selection, ScenarioError> {
-    match s {
-        SelectionSection::Word(w) if w == "all" => Ok(Selection::All),
-        SelectionSection::Word(w) => Err(c.bad(
-            key,
-            format!("`{w}`"),
-            "is not allowed",
-            "\"all\" or a list of satellite indices",
-        )),
-        SelectionSection::Ids(ids) => {
-            for &i in ids {
-                c.index(key, i, count)?;
-            }
-            Ok(Selection::Satellites(ids.clone()))
-        }
-    }
-}
-
-/// Translates the timeline, checking times, indices and — by replaying the law changes in time order —
-/// every parameter update and law switch: each resulting law is built and checked against the dynamics
-/// and timing, so that a bad or too stiff update fails before the run, not when its event fires.
-pub(super) fn events(
-    c: &Checker<'_>,
-    scenario: &Scenario,
-    count: usize,
-    config: &SimulationConfig,
-    min_mass_kg: f64,
-) -> Result<Vec<Event>, ScenarioError> {
-    let f = &scenario.file;
-    let duration_s = config.duration_s;
-    let mut order: Vec<usize> = (0..f.events.len()).collect();
-    order.sort_by(|&a, &b| f.events[a].time_s.total_cmp(&f.events[b].time_s));
-    let mut current = f.law.clone();
-    let mut out = Vec::with_capacity(f.events.len());
-    for k in order {
-        let e = &f.events[k];
-        let event = scenario.event_key(k);
-        let key = |name: &str| format!("{event}.{name}");
-        if !(e.time_s.is_finite() && (0.0..=duration_s).contains(&e.time_s)) {
-            return Err(c.range(
-                &key("time_s"),
-                e.time_s,
-                format!("[0, duration_s = {duration_s}]"),
-            ));
-        }
-        let action = match &e.action {
-            ActionSection::SetLawParameters { parameters } => {
-                let merged = merge_law_parameters(&current, parameters).map_err(|err| {
-                    c.keys(
-                        &key("parameters"),
-                        format!("law `{}`: {err}", current.name()),
-                        "the keys of the law's table, of their types",
-                    )
-                })?;
-                build_law(c, &key("parameters"), &merged, config, count, min_mass_kg)?;
-                current = merged.clone();
-                EventAction::SetLawParameters(merged.into_parameters())
-            }
-            ActionSection::SwitchLaw { law } => {
-                let built = build_law(c, &key("law"), law, config, count, min_mass_kg)?;
-                current = law.clone();
-                EventAction::SwitchLaw(built)
-            }
-            ActionSection::ThreatWarning { threat, active } => EventAction::ThreatWarning {
-                threat: if *threat < config.threats.len() {
-                    *threat
-                } else if config.threats.is_empty() {
-                    return Err(c.bad(
-                        &key("threat"),
-                        threat,
-                        "names a threat, but the scenario has no [[threats]] to warn about",
-                        "a [[threats]] entry to warn about: add one, or remove this threat-warning \
-                         event",
-                    ));
-                } else {
-                    return Err(c.bad(
-                        &key("threat"),
-                        format!("threat {threat}"),
-                        "does not exist",
-                        format!(
-                            "0..{}, the [[threats]] of the scenario",
-                            config.threats.len()
-                        ),
-                    ));
-                },
-                active: *active,
-            },
-            ActionSection::CutLinks { satellites } => {
-                EventAction::CutLinks(selection(c, &key("satellites"), satellites, count)?)
-            }
-            ActionSection::RestoreLinks { satellites } => {
-                EventAction::RestoreLinks(selection(c, &key("satellites"), satellites, count)?)
-            }
-            ActionSection::RemoveSatellite { satellite } => {
-                let id = c.index(&key("satellite"), *satellite, count)?;
-                if config.origin == Origin::Member(id) {
-                    return Err(c.bad(
-                        &key("satellite"),
-                        format!("satellite {id}"),
-                        "is reference.origin_member, the origin of the relative frame; removing it \
-                         would freeze the frame",
-                        "any other satellite, or origin = \"virtual\"",
-                    ));
-                }
-                EventAction::RemoveSatellite(id)
-            }
-            ActionSection::FailThruster { satellite, axis } => EventAction::FailThruster {
-                satellite: c.index(&key("satellite"), *satellite, count)?,
-                axis: match axis {
-                    AxisName::X => ThrustAxis::X,
-                    AxisName::Y => ThrustAxis::Y,
-                    AxisName::Z => ThrustAxis::Z,
-                    AxisName::All => ThrustAxis::All,
-                },
-            },
-        };
-        out.push(Event {
-            time_s: e.time_s,
-            action,
-        });
-    }
-    Ok(out)
 }

@@ -13,6 +13,7 @@
 
 mod conjunctions;
 mod environment;
+mod events;
 mod initial_states;
 mod law;
 mod reference;
@@ -332,7 +333,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     // Law and events, each law and parameter set checked against the timing now, not when it applies.
     let min_mass_kg = min_mass_kg(&satellites);
     let law = law::build_law(&c, "law", &f.law, &config, count, min_mass_kg)?;
-    let events = law::events(&c, scenario, count, &config, min_mass_kg)?;
+    let events = events::events(&c, scenario, count, &config, min_mass_kg)?;
     let warnings = law::law_warnings(&f.law, &satellites);
     Ok(Prepared {
         epoch,

@@ -217,12 +217,14 @@ pub enum SimError {
         duration_s: f64,
     },
     /// An event names a satellite or threat that does not exist.
-    #[error("event `{event}` at t = {time_s} s names {what} {index}, which does not exist (allowed: 0..{count})")]
+    #[error(
+        "event `{event}` {when} names {what} {index}, which does not exist (allowed: 0..{count})"
+    )]
     EventTarget {
         /// What the event does.
         event: String,
-        /// Its time \[s\].
-        time_s: f64,
+        /// When it fires: `at t = T s`, or `on condition KEY`.
+        when: String,
         /// `satellite` or `threat`.
         what: &'static str,
         /// The index given.
@@ -377,6 +379,17 @@ pub enum SimError {
         /// The satellite's modes or range, as text.
         allowed: String,
     },
+    /// A condition event's numbers are out of range (a negative or non-finite threshold, a
+    /// `threat_within_m` without threats).
+    #[error("event {event}: condition `{condition}`: {reason}")]
+    EventCondition {
+        /// The event's index in the scenario's `[[events]]`.
+        event: usize,
+        /// The condition's key.
+        condition: &'static str,
+        /// What is wrong.
+        reason: String,
+    },
     /// The integrator failed (step-size underflow, non-finite derivative).
     #[error("integration failed: {0}")]
     Integration(#[from] IntegrateError),
@@ -409,6 +422,7 @@ impl SimError {
                 | SimError::OriginMember { .. }
                 | SimError::EventOutsideRun { .. }
                 | SimError::EventTarget { .. }
+                | SimError::EventCondition { .. }
                 | SimError::ControlPeriodTooLong { .. }
                 | SimError::StepTooLong { .. }
                 | SimError::AdaptiveStepTooLong { .. }

@@ -7,7 +7,8 @@
 //! | `sensing` | truth and navigation relative states, the sensing grid, the law's views, command evaluation |
 //! | `propagation` | one segment: the coupled swarm ODE (continuous) or every satellite alone (sampled) |
 //! | `scheduler` | the run loop: segments between ticks, records, events and the end; [`Simulation::advance_to`] |
-//! | `timeline` | applying the events that fall due |
+//! | `timeline` | the timed events that fall due, the condition events that fire, their actions and log |
+//! | `conditions` | the values the condition events test at a tick |
 //! | `monitors` | truth checks after every segment: divergence, separation, threat approach, obstacle clearance |
 //! | `snapshots` | what a recorder receives at every recording time |
 //! | `resort` | the periodic re-sort of the satellites' storage order by grid cell (sampled control) |
@@ -31,6 +32,7 @@
 //! re-sorted by grid cell in sampled control; ids, random streams, events, laws and outputs are by id,
 //! and no result depends on the storage order.
 
+mod conditions;
 mod config;
 mod monitors;
 mod propagation;
@@ -57,7 +59,7 @@ use crate::integrate::Stepper;
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::relative::SchweighartSedwick;
 use crate::swarm::dynamics::DynamicsModel;
-use crate::swarm::events::{Event, EventAction, Selection};
+use crate::swarm::events::{ConditionTest, Event, EventAction, Selection, Trigger};
 use crate::swarm::law::{GuidanceLaw, Law, SwarmView};
 use crate::swarm::state::SwarmState;
 use crate::swarm::storage_order::Placement;
@@ -172,7 +174,7 @@ impl Simulation {
         config: SimulationConfig,
         satellites: &[SatelliteInit],
         law: Law,
-        mut events: Vec<Event>,
+        events: Vec<Event>,
     ) -> Result<Self, SimError> {
         let n = satellites.len();
         if n == 0 {
@@ -202,10 +204,12 @@ impl Simulation {
                 dynamics: config.dynamics.name(),
             });
         }
-        // Stable sort keeps the file order of simultaneous events; reversed so that pop() is the next.
-        events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
-        events.reverse();
-
+        let tracks_threats = events.iter().any(|e| {
+            matches!(
+                &e.trigger,
+                Trigger::Condition(c) if matches!(c.test, ConditionTest::ThreatWithin { .. })
+            )
+        });
         let mut state = SwarmState::zeros(n);
         state.set_reference(&config.reference.position_m, &config.reference.velocity_mps);
         if let Some(forces) = config.dynamics.forces() {
@@ -272,10 +276,7 @@ impl Simulation {
             clock: Clock::start(),
             satellites: satellites_table,
             law,
-            timeline: Timeline {
-                events,
-                threat_warnings: vec![false; config.threats.len()],
-            },
+            timeline: Timeline::new(events, config.threats.len()),
             // Buffers a scenario's features need, and only then (a million satellites: 120 bytes each).
             noise: HeldNoise {
                 navigation: if config.sensing.has_navigation_noise() {
@@ -309,6 +310,9 @@ impl Simulation {
                 },
                 conjunctions: None,
                 origin_previous: OriginStates::default(),
+                tracks_threats,
+                threat_window_m: None,
+                conjunctions_seen: 0,
             },
             resort_period_ticks: RESORT_PERIOD_TICKS,
             cancel: None,
@@ -327,6 +331,7 @@ impl Simulation {
         sim.refresh_truth();
         sim.apply_due_events()?;
         sim.initialise_law()?;
+        sim.apply_condition_events()?;
         Ok(sim)
     }
 
@@ -498,6 +503,7 @@ impl Simulation {
         threshold_m: Option<f64>,
     ) -> Result<(), crate::conjunction::ConjunctionError> {
         self.monitors.conjunctions = threshold_m.map(ConjunctionMonitor::new).transpose()?;
+        self.monitors.conjunctions_seen = 0;
         let n = self.satellites.truth.len();
         if self.monitors.conjunctions.is_some() && self.monitors.truth_previous.len() != n {
             self.monitors.truth_previous = vec![RelativeStateHill::default(); n];
@@ -592,13 +598,12 @@ impl Simulation {
 
     fn law_names(&self, names_of: fn(&Law) -> &'static [&'static str]) -> Vec<&'static str> {
         let mut names: Vec<&'static str> = Vec::new();
-        let laws =
-            std::iter::once(&self.law).chain(self.timeline.events.iter().rev().filter_map(|e| {
-                match &e.action {
-                    EventAction::SwitchLaw(law) => Some(law),
-                    _ => None,
-                }
-            }));
+        let laws = std::iter::once(&self.law).chain(self.timeline.pending_actions().filter_map(
+            |action| match action {
+                EventAction::SwitchLaw(law) => Some(law),
+                _ => None,
+            },
+        ));
         for law in laws {
             for name in names_of(law) {
                 if !names.contains(name) {
@@ -625,17 +630,33 @@ impl Simulation {
     }
 }
 
-/// Refuses events outside the run or naming satellites or threats that do not exist.
+/// Refuses timed events outside the run, events naming satellites or threats that do not exist, and
+/// conditions with a threshold that is not a finite number.
 fn check_events(events: &[Event], config: &SimulationConfig, n: usize) -> Result<(), SimError> {
     for event in events {
         let describe = || format!("{:?}", event.action);
-        if !(event.time_s >= 0.0 && event.time_s <= config.duration_s) {
-            return Err(SimError::EventOutsideRun {
-                event: describe(),
-                time_s: event.time_s,
-                duration_s: config.duration_s,
-            });
-        }
+        let when = match &event.trigger {
+            Trigger::Time(time_s) => {
+                if !(*time_s >= 0.0 && *time_s <= config.duration_s) {
+                    return Err(SimError::EventOutsideRun {
+                        event: describe(),
+                        time_s: *time_s,
+                        duration_s: config.duration_s,
+                    });
+                }
+                format!("at t = {time_s} s")
+            }
+            Trigger::Condition(c) => {
+                if let Some(reason) = condition_problem(&c.test, c.hysteresis, config) {
+                    return Err(SimError::EventCondition {
+                        event: event.index,
+                        condition: c.test.key(),
+                        reason,
+                    });
+                }
+                format!("on condition `{}`", c.test.key())
+            }
+        };
         let (what, index, count) = match &event.action {
             EventAction::RemoveSatellite(i) => ("satellite", Some(*i), n),
             EventAction::FailThruster { satellite, .. } => ("satellite", Some(*satellite), n),
@@ -651,7 +672,7 @@ fn check_events(events: &[Event], config: &SimulationConfig, n: usize) -> Result
         if let Some(index) = index.filter(|&i| i >= count) {
             return Err(SimError::EventTarget {
                 event: describe(),
-                time_s: event.time_s,
+                when,
                 what,
                 index,
                 count,
@@ -659,6 +680,38 @@ fn check_events(events: &[Event], config: &SimulationConfig, n: usize) -> Result
         }
     }
     Ok(())
+}
+
+/// What is wrong with a condition's numbers (`None`: nothing): thresholds finite and >= 0, a
+/// tolerance and hysteresis finite and >= 0, a threat to approach.
+fn condition_problem(
+    test: &ConditionTest,
+    hysteresis: f64,
+    config: &SimulationConfig,
+) -> Option<String> {
+    let bad = |what: &str, v: f64| {
+        (!(v.is_finite() && v >= 0.0)).then(|| format!("{what} {v} is not finite and >= 0"))
+    };
+    bad("hysteresis", hysteresis).or_else(|| match test {
+        ConditionTest::MinSeparationBelow { threshold_m } => bad("threshold", *threshold_m),
+        ConditionTest::ThreatWithin { distance_m } => bad("distance", *distance_m).or_else(|| {
+            config
+                .threats
+                .is_empty()
+                .then(|| "the scenario has no threat".to_string())
+        }),
+        ConditionTest::UniformityWithin { target, tolerance } => {
+            bad("target", *target).or_else(|| bad("tolerance", *tolerance))
+        }
+        ConditionTest::LawOutcome { bound, .. } => match bound {
+            crate::swarm::events::Bound::Above(x) | crate::swarm::events::Bound::Below(x) => {
+                (!x.is_finite()).then(|| format!("bound {x} is not finite"))
+            }
+        },
+        ConditionTest::ShapeReached
+        | ConditionTest::SatellitesLostAtLeast(_)
+        | ConditionTest::Conjunction => None,
+    })
 }
 
 /// The SS model of the reference orbit at t = 0: radius and osculating inclination of the LVLH origin's

@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 
 use crate::conjunction::{ConjunctionMonitor, SwarmSegment};
-use crate::environment::HermiteSegment;
+use crate::environment::{closest_approach_to_threat, HermiteSegment};
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use rayon::prelude::*;
@@ -32,6 +32,15 @@ pub(super) struct Monitors {
     pub conjunctions: Option<ConjunctionMonitor>,
     /// The LVLH origin's states at the start of the last segment (conjunction monitor only).
     pub origin_previous: OriginStates,
+    /// Whether a condition event tests the closest approach to a threat (`threat_within_m`): then
+    /// every segment's continuous closest approach of the swarm goes into `threat_window_m`.
+    pub tracks_threats: bool,
+    /// The closest approach between a live satellite and a threat over the segments since the
+    /// conditions were last evaluated \[m\] (`None`: none observed).
+    pub threat_window_m: Option<f64>,
+    /// How many of the conjunction monitor's encounters the conditions have seen: those after it were
+    /// found since the conditions were last evaluated.
+    pub conjunctions_seen: usize,
 }
 
 /// What places the Hill frame at an instant: the state of the frame's origin (EME2000 for the inertial
@@ -130,6 +139,13 @@ impl Simulation {
                         &self.config.threats,
                         &self.config.obstacles,
                     );
+                    if self.monitors.tracks_threats {
+                        for threat in &self.config.threats {
+                            let d = closest_approach_to_threat(&segment, threat).distance_m;
+                            let window = &mut self.monitors.threat_window_m;
+                            *window = Some(window.map_or(d, |w| w.min(d)));
+                        }
+                    }
                 }
             }
         }

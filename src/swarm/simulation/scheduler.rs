@@ -2,7 +2,9 @@
 //! recording times, the event times, the end of the run and the time a caller asked for; every one of
 //! them is hit exactly. At a tick: the centralised step if due, new noise draws, the law-state update
 //! and (sampled mode) the held command; then the segment is integrated, the truth monitors run, due
-//! events apply and the recorder gets a snapshot if it is a recording time.
+//! timed events apply, at a tick's end the condition events are evaluated and those that hold fire,
+//! and the recorder gets a snapshot if it is a recording time (or a `record-snapshot` fired, or a
+//! `stop-run`, which ends the run there).
 
 use std::sync::atomic::Ordering;
 use std::time::Instant;
@@ -54,7 +56,9 @@ impl Clock {
 impl Simulation {
     /// Runs from the current time to the end of the run, recording at the cadence (and at t = 0 if not
     /// yet recorded). `progress` is called with the simulated time after every segment. On divergence
-    /// the recorder has received every snapshot up to the last good one.
+    /// the recorder has received every snapshot up to the last good one. A `stop-run` event ends the
+    /// run early, with a last snapshot at its time ([`Simulation::stopped_by`] names it); later calls
+    /// then advance no further.
     pub fn run(
         &mut self,
         recorder: &mut dyn Recorder,
@@ -87,20 +91,20 @@ impl Simulation {
         let eps = self.config.time_epsilon_s();
         if !self.clock.started {
             self.clock.started = true;
+            self.timeline.snapshot_requested = false;
             if let Some(recorder) = recorder.as_deref_mut() {
                 let clock = Instant::now();
                 self.record(recorder)?;
                 self.timings.recording_s += clock.elapsed().as_secs_f64();
             }
         }
-        while self.clock.time_s < end - eps {
+        if let Some(recorder) = recorder.as_deref_mut() {
+            self.send_firings(recorder)?;
+        }
+        while self.clock.time_s < end - eps && self.timeline.stop.is_none() {
             let next_step = ((self.clock.step_count + 1) as f64 * base).min(duration);
             let next_record = (self.clock.record_count as f64 * record).min(duration);
-            let next_event = self
-                .timeline
-                .events
-                .last()
-                .map_or(f64::INFINITY, |e| e.time_s);
+            let next_event = self.timeline.next_time_s();
             let mut t1 = next_step
                 .min(next_record)
                 .min(next_event.max(self.clock.time_s));
@@ -113,20 +117,32 @@ impl Simulation {
                 self.advance_segment(self.clock.time_s, t1, at_tick)?;
             }
             self.clock.time_s = t1;
-            if (t1 - next_step).abs() <= eps {
+            let tick_end = (t1 - next_step).abs() <= eps;
+            if tick_end {
                 self.clock.step_count += 1;
             }
             let clock = Instant::now();
             self.monitor(t0)?;
             self.timings.monitors_s += clock.elapsed().as_secs_f64();
             self.apply_due_events()?;
-            if (t1 - next_record).abs() <= eps {
+            if tick_end {
+                self.apply_condition_events()?;
+            }
+            if let Some(recorder) = recorder.as_deref_mut() {
+                self.send_firings(recorder)?;
+            }
+            let cadence = (t1 - next_record).abs() <= eps;
+            if cadence {
                 self.clock.record_count += 1;
-                if let Some(recorder) = recorder.as_deref_mut() {
-                    let clock = Instant::now();
-                    self.record(recorder)?;
-                    self.timings.recording_s += clock.elapsed().as_secs_f64();
-                }
+            }
+            // A recording time, a `record-snapshot`, or the last snapshot of a `stop-run`.
+            let snapshot =
+                cadence || self.timeline.snapshot_requested || self.timeline.stop.is_some();
+            self.timeline.snapshot_requested = false;
+            if let (true, Some(recorder)) = (snapshot, recorder.as_deref_mut()) {
+                let clock = Instant::now();
+                self.record(recorder)?;
+                self.timings.recording_s += clock.elapsed().as_secs_f64();
             }
             progress(self.clock.time_s);
             if self
@@ -141,6 +157,15 @@ impl Simulation {
             }
         }
         self.totals.time_s = self.clock.time_s;
+        Ok(())
+    }
+
+    /// Hands the recorder the firings it has not had yet (kept until there is a recorder).
+    fn send_firings(&mut self, recorder: &mut dyn Recorder) -> Result<(), SimError> {
+        for firing in &self.timeline.fired[self.timeline.fired_sent..] {
+            recorder.event_fired(firing)?;
+        }
+        self.timeline.fired_sent = self.timeline.fired.len();
         Ok(())
     }
 

@@ -4,7 +4,7 @@
 
 use nalgebra::Vector3;
 
-use crate::metrics::five_elements;
+use crate::metrics::{five_elements, FiveElements, FiveElementsWorkspace};
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use crate::swarm::recorder::{EnvironmentSnapshot, Recorder, Snapshot};
 use crate::swarm::simulation::monitors::live_separation;
@@ -42,6 +42,28 @@ pub(super) fn inertial_states(
         .collect()
 }
 
+/// The five elements of the satellites `live` (`state` gives a satellite's position and velocity in
+/// one frame \[m, m/s\], `radius_m` its radius), `None` with fewer than two.
+pub(super) fn five_elements_of(
+    live: &[usize],
+    state: impl Fn(usize) -> (Vector3<f64>, Vector3<f64>),
+    radius_m: impl Fn(usize) -> f64,
+    workspace: &mut FiveElementsWorkspace,
+) -> Option<FiveElements> {
+    if live.len() < 2 {
+        return None;
+    }
+    let (positions, velocities): (Vec<[f64; 3]>, Vec<[f64; 3]>) = live
+        .iter()
+        .map(|&i| {
+            let (p, v) = state(i);
+            (<[f64; 3]>::from(p), <[f64; 3]>::from(v))
+        })
+        .unzip();
+    let radii: Vec<f64> = live.iter().map(|&i| radius_m(i)).collect();
+    five_elements(&positions, &velocities, Some(&radii), workspace).ok()
+}
+
 impl Simulation {
     /// Builds the snapshot of now and hands it to the recorder.
     pub(super) fn record(&mut self, recorder: &mut dyn Recorder) -> Result<(), SimError> {
@@ -58,26 +80,12 @@ impl Simulation {
         let radii_m = order.by_id(&self.satellites.fleet.radii_m);
         let relative_states = order.by_id(&self.satellites.truth);
         let live: Vec<usize> = (0..n).filter(|&id| active[id]).collect();
-        let elements = if live.len() >= 2 {
-            let positions: Vec<[f64; 3]> = live
-                .iter()
-                .map(|&i| inertial[i].position_m.into())
-                .collect();
-            let velocities: Vec<[f64; 3]> = live
-                .iter()
-                .map(|&i| inertial[i].velocity_mps.into())
-                .collect();
-            let radii: Vec<f64> = live.iter().map(|&i| radii_m[i]).collect();
-            five_elements(
-                &positions,
-                &velocities,
-                Some(&radii),
-                &mut self.monitors.live.workspace,
-            )
-            .ok()
-        } else {
-            None
-        };
+        let elements = five_elements_of(
+            &live,
+            |i| (inertial[i].position_m, inertial[i].velocity_mps),
+            |i| radii_m[i],
+            &mut self.monitors.live.workspace,
+        );
         let (min_separation_m, collisions) = live_separation(
             &self.satellites.truth,
             &self.satellites.fleet.active,

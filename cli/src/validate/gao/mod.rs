@@ -136,15 +136,24 @@ pub fn run_builtin(name: &str, seed: u64, duration_s: Option<f64>) -> Result<Tra
     scenario.file.seed = seed;
     if let Some(d) = duration_s {
         scenario.file.duration_s = d;
-        scenario.file.events.retain(|e| e.time_s <= d);
+        scenario
+            .file
+            .events
+            .retain(|e| e.time_s.is_none_or(|t| t <= d));
     }
     let LawConfig::Bifurcating(initial) = &scenario.file.law else {
         return Err(failed(format!("{name} does not run the bifurcating law")));
     };
     let mut schedule = vec![(0.0, initial.clone())];
-    let mut events: Vec<_> = scenario.file.events.iter().collect();
-    events.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
-    for e in events {
+    // The shape schedule of the timed events (the built-ins have no condition events).
+    let mut events: Vec<(f64, _)> = scenario
+        .file
+        .events
+        .iter()
+        .filter_map(|e| Some((e.time_s?, e)))
+        .collect();
+    events.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (time_s, e) in events {
         if let ActionSection::SetLawParameters { parameters } = &e.action {
             let last = schedule
                 .last()
@@ -155,7 +164,7 @@ pub fn run_builtin(name: &str, seed: u64, duration_s: Option<f64>) -> Result<Tra
             let LawConfig::Bifurcating(merged) = merged else {
                 unreachable!("set-law-parameters keeps the law");
             };
-            schedule.push((e.time_s, merged));
+            schedule.push((time_s, merged));
         }
     }
     let prepared = scenario.prepare().map_err(failed)?;
