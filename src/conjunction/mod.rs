@@ -11,7 +11,7 @@
 //! both ends, Hill frame): the satellites' paths are the cubic Hermite interpolants of their end states
 //! ([`HermiteSegment`]), so a pair's relative path is a cubic too, and its distance's local minima are
 //! found exactly on it by the root isolation of [`crate::environment::closest_approach`]. Satellite
-//! pairs are screened by [`screen`]'s list (never all pairs); satellite–threat and satellite–obstacle
+//! pairs are screened by the neighbour grid's candidates (`screen.rs`, never all pairs); satellite–threat and satellite–obstacle
 //! pairs by a bound on each satellite's sweep (threats move on straight lines, obstacles are fixed, both
 //! in the Hill frame). Threats and obstacles are points here (their centres): the miss distance is
 //! centre to centre, as in a conjunction data message.

@@ -116,7 +116,7 @@ fn values(e: &Encounter) -> [f64; 20] {
 }
 
 /// The encounter of a row read back: `tca_s`, the four id cells (NaN where empty) and the values of
-/// [`VALUE_COLUMNS`]; `None` unless exactly one secondary cell holds a whole number.
+/// [`value_column_names`]; `None` unless exactly one secondary cell holds a whole number.
 pub fn encounter_of_row(tca_s: f64, id_cells: [f64; 4], v: &[f64; 20]) -> Option<Encounter> {
     let whole = |x: f64| (x.is_finite() && x >= 0.0 && x.fract() == 0.0).then_some(x as usize);
     let primary = whole(id_cells[0])?;
