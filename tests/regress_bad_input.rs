@@ -331,7 +331,7 @@ fn csv_dir(tag: &str) -> std::path::PathBuf {
 fn csv_text(path: &str) -> String {
     VALID.replace("count = 4", "count = 2").replace(
         SPHERE,
-        &format!("initial = {{ distribution = \"csv\", path = \"{path}\" }}"),
+        &format!("initial = {{ distribution = \"csv\", file = \"{path}\" }}"),
     )
 }
 
@@ -347,20 +347,20 @@ fn regress_csv_path_outside_the_scenario_folder_is_refused_without_echo() {
     let message = refused_text(
         &csv_text("../outside.csv"),
         &dir,
-        "satellites.initial.path",
+        "satellites.initial.file",
         &["outside the scenario's folder", "allowed"],
     );
     assert!(!message.contains(secret), "{message}");
     refused_text(
         &csv_text("../../../../../../../../etc/passwd"),
         &dir,
-        "satellites.initial.path",
+        "satellites.initial.file",
         &["outside the scenario's folder"],
     );
     refused_text(
         &csv_text("/dev/zero"),
         &dir,
-        "satellites.initial.path",
+        "satellites.initial.file",
         &["outside the scenario's folder"],
     );
 }
@@ -372,7 +372,7 @@ fn regress_csv_non_regular_file_is_refused() {
     refused_text(
         &csv_text("sub.csv"),
         &dir,
-        "satellites.initial.path",
+        "satellites.initial.file",
         &["not a regular file"],
     );
 }
@@ -389,7 +389,7 @@ fn regress_csv_errors_never_echo_the_content() {
     let message = refused_text(
         &csv_text("bad-header.csv"),
         &dir,
-        "satellites.initial.path",
+        "satellites.initial.file",
         &["line 1 is not the required header"],
     );
     assert!(!message.contains("SECRET"), "{message}");
@@ -401,7 +401,7 @@ fn regress_csv_errors_never_echo_the_content() {
     let message = refused_text(
         &csv_text("bad-cell.csv"),
         &dir,
-        "satellites.initial.path",
+        "satellites.initial.file",
         &["line 2: column z_m is not a number"],
     );
     assert!(!message.contains("SECRET"), "{message}");

@@ -149,7 +149,7 @@ fn val_malformed_scenarios_get_clear_errors() {
             "elements and state together",
             "altitude_m = 600e3",
             "altitude_m = 600e3\nposition_eci_m = [7e6, 0, 0]\nvelocity_eci_mps = [0, 7.5e3, 0]",
-            &["reference", "not both"],
+            &["key `reference`", "gives classical elements and position_eci_m", "allowed: one of"],
         ),
         (
             "unknown law",
@@ -202,8 +202,8 @@ fn val_malformed_scenarios_get_clear_errors() {
         (
             "missing csv",
             "initial = { distribution = \"sphere\", radius_m = 50.0 }",
-            "initial = { distribution = \"csv\", path = \"no-such-file.csv\" }",
-            &["satellites.initial.path", "no-such-file.csv"],
+            "initial = { distribution = \"csv\", file = \"no-such-file.csv\" }",
+            &["satellites.initial.file", "no-such-file.csv"],
         ),
         (
             "event after the end",
@@ -301,7 +301,7 @@ fn val_csv_and_gao_frame_initial_states_are_converted_to_hill() {
     .unwrap();
     let text = VALID.replace("count = 4", "count = 2").replace(
         "initial = { distribution = \"sphere\", radius_m = 50.0 }",
-        "initial = { distribution = \"csv\", path = \"states.csv\", frame = \"gao\" }",
+        "initial = { distribution = \"csv\", file = \"states.csv\", frame = \"gao\" }",
     );
     let file = dir.join("s.toml");
     std::fs::write(&file, text).unwrap();

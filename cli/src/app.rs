@@ -210,6 +210,9 @@ enum ScenariosAction {
     Show {
         /// Built-in scenario name.
         name: String,
+        /// Print this file the scenario reads (an orbit file embedded with it) instead of its TOML.
+        #[arg(long, value_name = "FILE")]
+        file: Option<String>,
     },
 }
 
@@ -463,10 +466,20 @@ where
         } => plot_command(&run_dir, satellites.as_deref()),
         Command::Scenarios { action: None } => scenarios(),
         Command::Scenarios {
-            action: Some(ScenariosAction::Show { name }),
-        } => match builtin::find(&name) {
-            Some(b) => print_out(b.toml),
-            None => Err(usage(format!(
+            action: Some(ScenariosAction::Show { name, file }),
+        } => match (builtin::find(&name), file) {
+            (Some(b), None) => print_out(b.toml),
+            (Some(b), Some(file)) => match builtin::file(b.name, &file) {
+                Some(text) => print_out(text),
+                None => Err(usage(format!(
+                    "the built-in scenario `{name}` embeds no file `{file}` (it embeds: {})",
+                    match builtin::files(b.name).join(", ") {
+                        none if none.is_empty() => "none".to_string(),
+                        some => some,
+                    }
+                ))),
+            },
+            (None, _) => Err(usage(format!(
                 "no built-in scenario `{name}` (built-in: {})",
                 builtin::names().join(", ")
             ))),

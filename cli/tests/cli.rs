@@ -322,6 +322,38 @@ fn val_scenarios_show_prints_the_builtin_toml_and_unknown_names_exit_2() {
 }
 
 #[test]
+fn val_scenarios_show_file_prints_a_builtins_orbit_file_and_a_copy_runs() {
+    // omm-flock reads an OMM embedded with it: `--file` prints it, and the TOML and the file copied
+    // into a folder run from there as the built-in does.
+    let dir = scratch_dir("show-file");
+    for (args, name) in [
+        (&["scenarios", "show", "omm-flock"][..], "flock.toml"),
+        (
+            &["scenarios", "show", "omm-flock", "--file", "omm-flock.xml"][..],
+            "omm-flock.xml",
+        ),
+    ] {
+        let output = satflock().args(args).output().unwrap();
+        assert!(output.status.success(), "{args:?}");
+        std::fs::write(dir.join(name), output.stdout).unwrap();
+    }
+    let copy = satflock::scenario::Scenario::from_path(&dir.join("flock.toml")).unwrap();
+    let builtin = satflock::scenario::Scenario::load("omm-flock").unwrap();
+    let (a, b) = (copy.prepare().unwrap(), builtin.prepare().unwrap());
+    assert_eq!(a.epoch, b.epoch);
+    for (x, y) in a.satellites.iter().zip(&b.satellites) {
+        assert_eq!(x.relative_state, y.relative_state);
+    }
+    let output = satflock()
+        .args(["scenarios", "show", "omm-flock", "--file", "nope.xml"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("it embeds: omm-flock.xml"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
     let output = satflock().args(["validate", "core"]).output().unwrap();
     assert!(

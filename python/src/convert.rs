@@ -2,7 +2,8 @@
 //!
 //! TOML → Python: strings, integers, floats, booleans, arrays (lists) and tables (dicts); a date-time
 //! becomes its RFC 3339 text. Python → TOML: `bool`, `int` (64-bit), `float`, `str`, `list`/`tuple`,
-//! `dict` with string keys, and numpy scalars (through their `item()`); `None` has no TOML form and is
+//! `dict` with string keys, numpy arrays (through their `tolist()`: nested lists) and numpy scalars
+//! (through their `item()`); `None` has no TOML form and is
 //! refused, and so are a dict or list that contains itself and nesting deeper than [`MAX_DEPTH`].
 
 use pyo3::prelude::*;
@@ -111,6 +112,19 @@ fn leaf(obj: &Bound<'_, PyAny>, at: &str, path: &mut Vec<usize>) -> Result<toml:
             "`{at}` is None, which a scenario cannot hold (leave the key out for its default)"
         ));
     }
+    // numpy arrays of one or more dimensions (e.g. an (N, 6) array of EME2000 states): their nested
+    // lists, converted item by item like any list.
+    let ndim = obj
+        .getattr("ndim")
+        .ok()
+        .and_then(|n| n.extract::<usize>().ok());
+    if obj.hasattr("dtype").unwrap_or(false) && ndim.is_some_and(|n| n >= 1) {
+        if let Ok(list) = obj.call_method0("tolist") {
+            if list.is_instance_of::<PyList>() {
+                return convert(&list, at, path);
+            }
+        }
+    }
     // numpy scalars (np.float64, np.int32, np.bool_) and 0-d arrays: their Python value.
     if obj.hasattr("item").unwrap_or(false) && obj.hasattr("dtype").unwrap_or(false) {
         if let Ok(item) = obj.call_method0("item") {
@@ -126,7 +140,7 @@ fn leaf(obj: &Bound<'_, PyAny>, at: &str, path: &mut Vec<usize>) -> Result<toml:
         .unwrap_or_else(|_| "?".into());
     Err(format!(
         "`{at}` is a {type_name}, which a scenario cannot hold (allowed: bool, int, float, str, list, \
-         dict, numpy scalars)"
+         dict, numpy arrays and scalars)"
     ))
 }
 

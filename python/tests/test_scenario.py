@@ -1,5 +1,5 @@
 """satflock.Scenario: loading, dict and TOML round trips, dotted-key access, and errors that name the
-file, the key and the allowed range (the same messages as `satflock run`)."""
+file, the key and the allowed range (the same messages as `satflock run`); numpy arrays as values."""
 
 import numpy as np
 import pytest
@@ -94,3 +94,19 @@ def test_a_bad_value_is_refused_at_construction(value):
     with pytest.raises(satflock.ScenarioError) as e:
         satflock.Scenario.from_toml(text.replace("duration_s = 4000.0", f"duration_s = {value!r}"))
     assert e.value.key == "duration_s"
+
+
+def test_from_dict_takes_a_numpy_array_of_eme2000_states():
+    """Issue 27: the swarm's own inertial states as an (N, 6) numpy array in `satellites.initial`; the
+    simulation holds exactly them at t = 0 (to rounding), as the CLI does with the same list."""
+    d = satflock.Scenario.load("hold").to_dict()
+    hill = satflock.Simulation(satflock.Scenario.from_dict(d))
+    states = np.hstack([hill.positions_eci, hill.velocities_eci])  # (N, 6) float64, EME2000
+    d["satellites"]["initial"] = {"distribution": "list", "frame": "eme2000", "states": states}
+    inertial = satflock.Scenario.from_dict(d)
+    assert inertial["satellites.initial.states"] == states.tolist()
+    sim = satflock.Simulation(inertial)
+    np.testing.assert_allclose(sim.positions_eci, states[:, :3], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(sim.velocities_eci, states[:, 3:], rtol=0, atol=1e-10)
+    # The same satellites, so the same Hill states.
+    np.testing.assert_allclose(sim.positions_hill, hill.positions_hill, rtol=0, atol=1e-7)

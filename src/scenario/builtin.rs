@@ -1,4 +1,5 @@
-//! Built-in scenarios: TOML files of the repository's `scenarios/` folder, embedded in the binary.
+//! Built-in scenarios: TOML files of the repository's `scenarios/` folder, and the orbit files they read,
+//! embedded in the binary.
 
 /// One built-in scenario.
 #[derive(Clone, Copy, Debug)]
@@ -191,7 +192,36 @@ pub const BUILTINS: &[Builtin] = &[
         name: "pigeon-baseline",
         toml: include_str!("../../scenarios/pigeon-baseline.toml"),
     },
+    Builtin {
+        name: "omm-flock",
+        toml: include_str!("../../scenarios/omm-flock.toml"),
+    },
 ];
+
+/// The files built-in scenarios read besides their TOML (orbit files), embedded too: (scenario, file
+/// name as the scenario names it, text). A built-in's file names resolve here, not on the disk.
+const FILES: &[(&str, &str, &str)] = &[(
+    "omm-flock",
+    "omm-flock.xml",
+    include_str!("../../scenarios/omm-flock.xml"),
+)];
+
+/// The embedded file `file` of the built-in scenario `name`.
+pub fn file(name: &str, file: &str) -> Option<&'static str> {
+    FILES
+        .iter()
+        .find(|(n, f, _)| *n == name && *f == file)
+        .map(|(_, _, text)| *text)
+}
+
+/// The names of the files embedded with the built-in scenario `name`.
+pub fn files(name: &str) -> Vec<&'static str> {
+    FILES
+        .iter()
+        .filter(|(n, _, _)| *n == name)
+        .map(|(_, f, _)| *f)
+        .collect()
+}
 
 /// The built-in scenario of that name.
 pub fn find(name: &str) -> Option<&'static Builtin> {

@@ -242,7 +242,11 @@ impl Scenario {
             file: source.clone(),
             message: e.to_string(),
         })?;
-        let base = path.parent().unwrap_or(Path::new("."));
+        // A bare file name's parent is the empty path: the current directory.
+        let base = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
         Self::from_toml(&text, &source, base)
     }
 

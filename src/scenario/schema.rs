@@ -21,8 +21,8 @@ pub struct ScenarioFile {
     pub description: String,
     /// Seed of every random draw.
     pub seed: u64,
-    /// The instant of t = 0, ISO 8601 UTC (`"2026-03-20T12:00:00Z"`); absent:
-    /// [`crate::time::DEFAULT_EPOCH_UTC`].
+    /// The instant of t = 0, ISO 8601 UTC (`"2026-03-20T12:00:00Z"`); absent: the epoch of the orbit
+    /// files the scenario names (they must agree), else [`crate::time::DEFAULT_EPOCH_UTC`].
     #[serde(default)]
     pub epoch_utc: Option<String>,
     /// Length of the run \[s\].
@@ -187,6 +187,15 @@ pub struct ReferenceSection {
     pub position_eci_m: Option<[f64; 3]>,
     /// ECI velocity \[m/s\].
     pub velocity_eci_mps: Option<[f64; 3]>,
+    /// The inertial state at the scenario epoch, EME2000, `[x_m, y_m, z_m, vx_mps, vy_mps, vz_mps]`
+    /// (instead of elements).
+    pub state_eme2000: Option<[f64; 6]>,
+    /// A CCSDS OEM file holding one object: its state at the scenario epoch.
+    pub oem: Option<String>,
+    /// A CCSDS OMM file holding one element set: its SGP4 state at the scenario epoch.
+    pub omm: Option<String>,
+    /// A TLE, its two lines (or a title line and the two): its SGP4 state at the scenario epoch.
+    pub tle: Option<Vec<String>>,
     /// LVLH origin: `virtual` (default) or `member`.
     #[serde(default)]
     pub origin: OriginName,
@@ -307,6 +316,9 @@ pub enum ListFrame {
     Hill,
     /// Gao o-xyz: x along-track, y minus orbit normal, z toward Earth's centre.
     Gao,
+    /// Inertial EME2000 (J2000 mean equator and equinox), at the scenario epoch: the satellite's own
+    /// state, not relative to the reference orbit.
+    Eme2000,
 }
 
 /// Initial relative velocity of randomly placed satellites.
@@ -320,7 +332,8 @@ pub enum InitialVelocity {
     HcwNoDrift,
 }
 
-/// `[satellites.initial]`: the initial relative states, Hill frame relative to the reference orbit.
+/// `[satellites.initial]`: the initial states, relative to the reference orbit (Hill or Gao frame) or
+/// inertial (EME2000 lists and CSV files, OEM, OMM and TLE files).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "distribution", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum InitialSection {
@@ -392,13 +405,34 @@ pub enum InitialSection {
         /// One state per satellite.
         states: Vec<[f64; 6]>,
     },
-    /// A CSV file with header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps` (path relative to the scenario file).
+    /// A CSV file with the header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps`, optionally led by a `sat` column
+    /// (the satellite id of each row) and followed by a `frame` column (each row's frame); the file
+    /// is named relative to the scenario file, inside its folder.
     Csv {
-        /// Path of the file.
-        path: String,
-        /// Frame of the rows (default `hill`).
+        /// The file (`path` is accepted as its old name).
+        #[serde(alias = "path")]
+        file: String,
+        /// Frame of the rows without a `frame` column (default `hill`).
         #[serde(default)]
         frame: ListFrame,
+    },
+    /// CCSDS OEM files (2.0 or 3.0 KVN): one satellite per object, in file order, each at the
+    /// scenario epoch interpolated with its segment's own method and degree.
+    Oem {
+        /// The files, relative to the scenario file.
+        files: Vec<String>,
+    },
+    /// A CCSDS OMM file (KVN, XML or JSON): one satellite per element set, in file order, propagated
+    /// by SGP4 to the scenario epoch (TEME, converted to EME2000).
+    Omm {
+        /// The file, relative to the scenario file.
+        file: String,
+    },
+    /// A TLE file (two- or three-line element sets): one satellite per element set, in file order,
+    /// propagated by SGP4 to the scenario epoch (TEME, converted to EME2000).
+    Tle {
+        /// The file, relative to the scenario file.
+        file: String,
     },
 }
 

@@ -35,7 +35,7 @@ pub use law::{
 };
 pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{
-    check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
-    Simulation, SimulationConfig, StageTimings, TIME_EPSILON,
+    check_law_fits, hill_state_at_start, ControlTiming, Divergence, Origin, RunTotals,
+    SatelliteInit, Sensing, SimError, Simulation, SimulationConfig, StageTimings, TIME_EPSILON,
 };
 pub use state::SwarmState;

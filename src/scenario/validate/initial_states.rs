@@ -1,15 +1,18 @@
 //! `satellites.initial`: the initial states of the swarm, relative to the LVLH origin (Hill frame) —
-//! random draws, averaged-J2 parameters, a dispenser, lists and CSV files.
+//! random draws, averaged-J2 parameters, a dispenser, lists and CSV files (Hill, Gao or EME2000), and
+//! the OEM, OMM and TLE files of real satellites (EME2000 at the epoch, placed in the Hill frame).
 
 use nalgebra::Vector3;
 
-use crate::orbit::{gao_to_hill, RelativeStateHill};
+use crate::orbit::{gao_to_hill, CartesianState, RelativeStateHill};
 use crate::relative::SchweighartSedwick;
 use crate::scenario::initial;
 use crate::scenario::schema::{InitialSection, ListFrame};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{DynamicsModel, Origin};
+use crate::time::Epoch;
 
+use super::orbit_inputs::OrbitInputs;
 use super::satellites::Swarm;
 use super::{states_csv, Checker};
 
@@ -37,11 +40,15 @@ fn reference_model(swarm: &Swarm<'_>) -> SchweighartSedwick {
     }
 }
 
-/// The satellites' states at t = 0, Hill frame.
+/// The satellites' states at t = 0, Hill frame; `inertial` places an EME2000 state at t = 0 in it
+/// ([`crate::swarm::hill_state_at_start`]), `inputs` holds the orbit files read, `epoch` is t = 0.
 pub(super) fn initial_states(
     c: &Checker<'_>,
     scenario: &Scenario,
     swarm: &Swarm<'_>,
+    inputs: &OrbitInputs,
+    epoch: Epoch,
+    inertial: &dyn Fn(&CartesianState) -> RelativeStateHill,
 ) -> Result<Vec<RelativeStateHill>, ScenarioError> {
     let count = swarm.count;
     let mean_motion_rad_s = swarm.mean_motion_rad_s;
@@ -146,32 +153,61 @@ pub(super) fn initial_states(
             let mut out = Vec::with_capacity(count);
             for (i, s) in states.iter().enumerate() {
                 c.finite(&format!("{key}.states[{i}]"), s)?;
-                out.push(to_hill(*frame, s));
+                out.push(to_hill(*frame, s, inertial));
             }
             out
         }
-        InitialSection::Csv { path, frame } => {
-            let path_key = format!("{key}.path");
-            let full = states_csv::resolve(c, &path_key, &scenario.base_dir, path)?;
-            let rows = states_csv::read_states_csv(c, &path_key, &full)?;
+        InitialSection::Csv { file, frame } => {
+            let file_key = format!("{key}.file");
+            let full = states_csv::resolve(c, &file_key, &scenario.base_dir, file)?;
+            let rows = states_csv::read_states_csv(c, &file_key, &full)?;
             if rows.len() != count {
                 return Err(c.bad(
-                    &path_key,
+                    &file_key,
                     full.display(),
                     format!("has {} rows but satellites.count = {count}", rows.len()),
                     "one row per satellite",
                 ));
             }
-            rows.iter().map(|s| to_hill(*frame, s)).collect()
+            rows.iter()
+                .map(|row| to_hill(row.frame.unwrap_or(*frame), &row.state, inertial))
+                .collect()
+        }
+        InitialSection::Oem { .. } | InitialSection::Omm { .. } | InitialSection::Tle { .. } => {
+            let input = inputs
+                .swarm
+                .as_ref()
+                .expect("the orbit inputs hold the swarm's files");
+            if input.len() != count {
+                return Err(c.bad(
+                    input.key(),
+                    input.files(),
+                    format!(
+                        "holds {} objects but satellites.count = {count}",
+                        input.len()
+                    ),
+                    "one object (element set) per satellite",
+                ));
+            }
+            input
+                .states_eme2000(c, epoch)?
+                .iter()
+                .map(inertial)
+                .collect()
         }
     })
 }
 
-/// A listed state `s` in `frame` as a Hill-frame relative state.
-fn to_hill(frame: ListFrame, s: &[f64; 6]) -> RelativeStateHill {
+/// A listed state `s` in `frame` as a Hill-frame relative state (`inertial` places an EME2000 one).
+fn to_hill(
+    frame: ListFrame,
+    s: &[f64; 6],
+    inertial: &dyn Fn(&CartesianState) -> RelativeStateHill,
+) -> RelativeStateHill {
     let p = Vector3::new(s[0], s[1], s[2]);
     let v = Vector3::new(s[3], s[4], s[5]);
     match frame {
+        ListFrame::Eme2000 => inertial(&CartesianState::new(p, v)),
         ListFrame::Hill => RelativeStateHill {
             position_m: p,
             velocity_mps: v,

@@ -4,7 +4,8 @@
 //!
 //! | file | checks |
 //! | --- | --- |
-//! | `settings.rs` | top-level times, `[earth]`, `[dynamics]` (integration, model, forces, process noise), `[control]`, the run's size (`[output]`), `[sensing]`, the epoch |
+//! | `settings.rs` | top-level times, `[earth]`, `[dynamics]` (integration, model, forces, process noise), `[control]`, the run's size (`[output]`), `[sensing]` |
+//! | `orbit_inputs.rs` | the orbit files named (OEM, OMM, TLE of the swarm and the reference), read once; the epoch (`epoch_utc`, else the files') |
 //! | `reference.rs` | `[reference]`: the orbit, the origin, the virtual reference's properties |
 //! | `satellites.rs` | `[satellites]`: count, properties, drag attitudes, initial states, overrides, the start at t = 0 |
 //! | `states_csv.rs` | the CSV files of initial states, confined to the scenario's folder |
@@ -16,6 +17,7 @@ mod environment;
 mod events;
 mod initial_states;
 mod law;
+mod orbit_inputs;
 mod reference;
 mod satellites;
 mod settings;
@@ -277,9 +279,10 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     let times = settings::run_times(&c, f)?;
     let earth = settings::earth(&c, &f.earth)?;
     let integration = settings::integration(&c, &f.dynamics)?;
-    let (reference, elements) = reference::reference_orbit(&c, scenario, &earth)?;
+    let inputs = orbit_inputs::read(&c, scenario)?;
+    let epoch = orbit_inputs::epoch(&c, f, &inputs)?;
+    let (reference, elements) = reference::reference_orbit(&c, scenario, &earth, &inputs, epoch)?;
     let mean_motion_rad_s = earth.mean_motion_rad_s(elements.semi_major_axis_m);
-    let epoch = settings::epoch(&c, f)?;
     let dynamics = settings::dynamics_model(&c, &f.dynamics, &earth, &elements, epoch)?;
     let period_s = std::f64::consts::TAU / mean_motion_rad_s;
     settings::check_step(&c, &f.dynamics, &integration, &times, period_s)?;
@@ -297,9 +300,8 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         earth: &earth,
         origin,
     };
-    let satellites = satellites::satellites(&c, scenario, &swarm)?;
-    let reference_properties =
-        reference::reference_properties(&c, &f.reference, &satellites, swarm.uses())?;
+    let (satellites, reference_properties) =
+        satellites::satellites(&c, scenario, &swarm, &inputs, epoch)?;
     satellites::check_start(&c, f, &swarm, &satellites, integration.max_distance_m)?;
     let sensing = settings::sensing(&c, &f.sensing, mean_motion_rad_s)?;
     let process_noise_m_s2 = settings::process_noise(&c, &f.dynamics, &dynamics)?;

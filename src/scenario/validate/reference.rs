@@ -1,4 +1,4 @@
-//! `[reference]`: the reference orbit at t = 0 (classical elements or an inertial state), the LVLH
+//! `[reference]`: the reference orbit at t = 0 (classical elements, an inertial state or an orbit file), the LVLH
 //! origin and the virtual reference's physical properties.
 
 use nalgebra::Vector3;
@@ -8,19 +8,25 @@ use crate::orbit::{CartesianState, EarthModel, KeplerianElements};
 use crate::scenario::schema::{OriginName, ReferenceSection};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{Origin, SatelliteInit};
+use crate::time::Epoch;
 
+use super::orbit_inputs::OrbitInputs;
 use super::satellites::unused_property;
 use super::settings::force_error;
 use super::{Checker, MAX_APOGEE_RADIUS_M, MIN_PERIGEE_ALTITUDE_M};
 
-/// The reference orbit's inertial (EME2000) state at t = 0 and its osculating elements.
+/// The reference orbit's inertial (EME2000) state at t = 0 and its osculating elements: from classical
+/// elements, an inertial state (`position_eci_m` + `velocity_eci_mps`, or `state_eme2000`), or an orbit
+/// file (`oem`, `omm`, `tle`, read into `inputs`) at the scenario `epoch`.
 pub(super) fn reference_orbit(
     c: &Checker<'_>,
     scenario: &Scenario,
     earth: &EarthModel,
+    inputs: &OrbitInputs,
+    epoch: Epoch,
 ) -> Result<(CartesianState, KeplerianElements), ScenarioError> {
     let r = &scenario.file.reference;
-    let by_state = r.position_eci_m.is_some() || r.velocity_eci_mps.is_some();
+    let by_eci = r.position_eci_m.is_some() || r.velocity_eci_mps.is_some();
     let by_elements = r.semi_major_axis_m.is_some()
         || r.altitude_m.is_some()
         || r.eccentricity.is_some()
@@ -28,14 +34,38 @@ pub(super) fn reference_orbit(
         || r.raan_deg.is_some()
         || r.arg_perigee_deg.is_some()
         || r.true_anomaly_deg.is_some();
-    if by_state && by_elements {
+    let given: Vec<&str> = [
+        ("classical elements", by_elements),
+        ("position_eci_m + velocity_eci_mps", by_eci),
+        ("state_eme2000", r.state_eme2000.is_some()),
+        (
+            "an orbit file (oem, omm or tle)",
+            inputs.reference.is_some(),
+        ),
+    ]
+    .into_iter()
+    .filter_map(|(what, is)| is.then_some(what))
+    .collect();
+    if given.len() > 1 {
         return Err(c.keys(
             "reference",
-            "gives both classical elements and position_eci_m + velocity_eci_mps",
-            "either classical elements or position_eci_m + velocity_eci_mps, not both",
+            format!("gives {}", given.join(" and ")),
+            "one of: classical elements, position_eci_m + velocity_eci_mps, state_eme2000, oem, omm, tle",
         ));
     }
-    if by_state {
+    if let Some(input) = &inputs.reference {
+        let state = input.states_eme2000(c, epoch)?[0];
+        return reference_state(c, input.key(), state, earth);
+    }
+    if let Some(s) = r.state_eme2000 {
+        c.finite("reference.state_eme2000", &s)?;
+        let state = CartesianState::new(
+            Vector3::new(s[0], s[1], s[2]),
+            Vector3::new(s[3], s[4], s[5]),
+        );
+        return reference_state(c, "reference.state_eme2000", state, earth);
+    }
+    if by_eci {
         let (Some(p), Some(v)) = (r.position_eci_m, r.velocity_eci_mps) else {
             return Err(c.keys(
                 "reference",

@@ -7,15 +7,18 @@ use nalgebra::Vector3;
 use crate::dynamics::PhysicalProperties;
 use crate::environment::Obstacle;
 use crate::invalid::Invalid;
-use crate::orbit::{CartesianState, EarthModel};
+use crate::orbit::{CartesianState, EarthModel, RelativeStateHill};
 use crate::scenario::schema::{PerSatellite, SatellitesSection, ScenarioFile};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::swarm::{
-    Actuator, ControlTiming, DragAttitudes, DynamicsModel, Origin, SatelliteInit, MAX_DRAG_MODES,
+    hill_state_at_start, Actuator, ControlTiming, DragAttitudes, DynamicsModel, Origin,
+    SatelliteInit, MAX_DRAG_MODES,
 };
+use crate::time::Epoch;
 
+use super::orbit_inputs::OrbitInputs;
 use super::settings::{base_step_s, force_error};
-use super::{initial_states, Checker, MAX_SATELLITES};
+use super::{initial_states, reference, Checker, MAX_SATELLITES};
 
 /// What the satellites' checks need to know of the run: the swarm's size, the truth model, the timing,
 /// the reference orbit and the LVLH origin.
@@ -59,12 +62,15 @@ pub(super) fn count(c: &Checker<'_>, s: &SatellitesSection) -> Result<usize, Sce
 }
 
 /// The satellites at t = 0: their initial states, physical properties, radii and actuators, with
-/// the `[[satellites.overrides]]` applied.
+/// the `[[satellites.overrides]]` applied; and the virtual reference's properties (`[reference]`'s,
+/// else the satellites' mean). `inputs` holds the orbit files read, `epoch` is t = 0.
 pub(super) fn satellites(
     c: &Checker<'_>,
     scenario: &Scenario,
     swarm: &Swarm<'_>,
-) -> Result<Vec<SatelliteInit>, ScenarioError> {
+    inputs: &OrbitInputs,
+    epoch: Epoch,
+) -> Result<(Vec<SatelliteInit>, PhysicalProperties), ScenarioError> {
     let s = &scenario.file.satellites;
     let count = swarm.count;
     let (drag, srp) = swarm.uses();
@@ -114,12 +120,11 @@ pub(super) fn satellites(
         Some(a) => c.positive("satellites.max_accel_mps2", a)?,
         None => f64::INFINITY,
     };
-    let states = initial_states::initial_states(c, scenario, swarm)?;
-    let mut satellites: Vec<SatelliteInit> = states
-        .into_iter()
-        .enumerate()
-        .map(|(id, relative_state)| SatelliteInit {
-            relative_state,
+    // The initial states come last: an inertial one is placed in the reference orbit's frame,
+    // which depends on the virtual reference's properties, the mean of the satellites' by default.
+    let mut satellites: Vec<SatelliteInit> = (0..count)
+        .map(|id| SatelliteInit {
+            relative_state: RelativeStateHill::default(),
             properties: PhysicalProperties {
                 mass_kg,
                 drag_area_m2: drag_areas[id],
@@ -138,7 +143,22 @@ pub(super) fn satellites(
             .validate("satellites.")
             .map_err(|e| force_error(c, e, "", Some(id)))?;
     }
-    Ok(satellites)
+    let reference_properties =
+        reference::reference_properties(c, &scenario.file.reference, &satellites, swarm.uses())?;
+    let to_hill = |state: &CartesianState| {
+        hill_state_at_start(
+            swarm.dynamics,
+            swarm.earth,
+            swarm.reference,
+            &reference_properties,
+            state,
+        )
+    };
+    let states = initial_states::initial_states(c, scenario, swarm, inputs, epoch, &to_hill)?;
+    for (sat, state) in satellites.iter_mut().zip(states) {
+        sat.relative_state = state;
+    }
+    Ok((satellites, reference_properties))
 }
 
 /// `[[satellites.overrides]]`: properties, radius and thrust of the satellites each lists.

@@ -1,4 +1,4 @@
-//! The run's settings: the top-level times and epoch, `[earth]`, `[dynamics]` (integration, model and
+//! The run's settings: the top-level times, `[earth]`, `[dynamics]` (integration, model and
 //! force set, process noise), `[control]`, the run's size against `[output]`, and `[sensing]`.
 
 use crate::dynamics::{ForceConfigError, ForceSet};
@@ -43,18 +43,6 @@ pub(super) fn run_times(c: &Checker<'_>, f: &ScenarioFile) -> Result<RunTimes, S
         duration_s,
         record_interval_s,
     })
-}
-
-/// `epoch_utc` (absent: [`crate::time::DEFAULT_EPOCH_UTC`]).
-pub(super) fn epoch(
-    c: &Checker<'_>,
-    f: &ScenarioFile,
-) -> Result<crate::time::Epoch, ScenarioError> {
-    let text = f
-        .epoch_utc
-        .as_deref()
-        .unwrap_or(crate::time::DEFAULT_EPOCH_UTC);
-    crate::time::parse_epoch_utc(text).map_err(|e| c.keys("epoch_utc", e, ""))
 }
 
 /// `[earth]`: each constant given, else WGS 84 / EGM96.

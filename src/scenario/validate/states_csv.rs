@@ -1,9 +1,11 @@
-//! The CSV files of initial states: confined to the scenario's folder, read through the bounded reader.
+//! The files a scenario names, confined to its folder; the CSV files of initial states, read through
+//! the bounded reader.
 //! Errors name the file, the line and the column, never the file's content.
 
 use std::path::{Path, PathBuf};
 
 use crate::invalid::Invalid;
+use crate::scenario::schema::ListFrame;
 use crate::scenario::ScenarioError;
 
 use super::{Checker, MAX_STATES_CSV_BYTES};
@@ -58,17 +60,27 @@ pub(super) fn resolve(
     Ok(full)
 }
 
-/// Reads the CSV of states at `path` (given by `key`) with header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps`.
+/// One row of a states CSV: the state and, with a `frame` column, its frame.
+pub(super) struct StateRow {
+    /// `[x, y, z, vx, vy, vz]` \[m, m/s\].
+    pub state: [f64; 6],
+    /// The row's frame (`None` without a `frame` column).
+    pub frame: Option<ListFrame>,
+}
+
+/// Reads the CSV of states at `path` (given by `key`) with the header `x_m,y_m,z_m,vx_mps,vy_mps,vz_mps`,
+/// optionally led by `sat` (each row's satellite id: every id of `0..rows` once, rows returned by id)
+/// and followed by `frame` (`hill`, `gao` or `eme2000` per row).
 pub(super) fn read_states_csv(
     c: &Checker<'_>,
     key: &str,
     path: &Path,
-) -> Result<Vec<[f64; 6]>, ScenarioError> {
+) -> Result<Vec<StateRow>, ScenarioError> {
     const HEADER: [&str; 6] = ["x_m", "y_m", "z_m", "vx_mps", "vy_mps", "vz_mps"];
     let file = path.display();
     let allowed = format!(
-        "a CSV file with the header `{}` and 6 finite numbers a row, at most {MAX_STATES_CSV_BYTES} \
-         bytes",
+        "a CSV file with the header `[sat,]{}[,frame]` (frame: hill, gao or eme2000), 6 finite numbers \
+         a row, at most {MAX_STATES_CSV_BYTES} bytes",
         HEADER.join(",")
     );
     let csv_error = |line: String, e: csv::Error| {
@@ -91,33 +103,81 @@ pub(super) fn read_states_csv(
         .map_err(|e| csv_error("line 1".into(), e))?
         .clone();
     let columns: Vec<&str> = header.iter().map(str::trim).collect();
-    if columns != HEADER {
+    let has_sat = columns.first() == Some(&"sat");
+    let first = usize::from(has_sat);
+    let has_frame = columns.len() == first + 7 && columns[first + 6] == "frame";
+    if columns.len() != first + 6 + usize::from(has_frame) || columns[first..first + 6] != HEADER {
         return Err(c.bad(key, &file, "line 1 is not the required header", &allowed));
     }
-    let mut rows = Vec::new();
+    let mut rows: Vec<(Option<usize>, StateRow)> = Vec::new();
     for (line, record) in reader.records().enumerate() {
         let line = line + 2;
         let record = record.map_err(|e| csv_error(format!("line {line}"), e))?;
-        let mut row = [0.0; 6];
-        for (k, field) in record.iter().enumerate().take(6) {
-            row[k] = field.trim().parse::<f64>().map_err(|_| {
-                c.bad(
+        let bad_line =
+            |problem: String| c.bad(key, &file, format!("line {line}: {problem}"), &allowed);
+        if record.len() != columns.len() {
+            return Err(bad_line(format!(
+                "expected {} columns, found {}",
+                columns.len(),
+                record.len()
+            )));
+        }
+        let sat = if has_sat {
+            let text = record[0].trim();
+            Some(
+                text.parse::<usize>()
+                    .map_err(|_| bad_line("column sat is not a satellite id".into()))?,
+            )
+        } else {
+            None
+        };
+        let mut state = [0.0; 6];
+        for (k, value) in state.iter_mut().enumerate() {
+            *value = record[first + k]
+                .trim()
+                .parse::<f64>()
+                .map_err(|_| bad_line(format!("column {} is not a number", HEADER[k])))?;
+            if !value.is_finite() {
+                return Err(bad_line(format!("column {} is not finite", HEADER[k])));
+            }
+        }
+        let frame = if has_frame {
+            let text = record[first + 6].trim();
+            Some(match text {
+                "hill" => ListFrame::Hill,
+                "gao" => ListFrame::Gao,
+                "eme2000" => ListFrame::Eme2000,
+                _ => {
+                    return Err(bad_line(
+                        "column frame is not one of hill, gao, eme2000".into(),
+                    ))
+                }
+            })
+        } else {
+            None
+        };
+        rows.push((sat, StateRow { state, frame }));
+    }
+    if has_sat {
+        let n = rows.len();
+        let mut seen = vec![false; n];
+        for (line, (sat, _)) in rows.iter().enumerate() {
+            let id = sat.expect("a sat column");
+            if id >= n || std::mem::replace(&mut seen[id], true) {
+                return Err(c.bad(
                     key,
                     &file,
-                    format!("line {line}: column {} is not a number", HEADER[k]),
+                    format!(
+                        "line {}: sat {id} is out of range or repeated (the ids of the rows are \
+                         0..={} once each)",
+                        line + 2,
+                        n.saturating_sub(1)
+                    ),
                     &allowed,
-                )
-            })?;
+                ));
+            }
         }
-        if record.len() != 6 || row.iter().any(|v| !v.is_finite()) {
-            return Err(c.bad(
-                key,
-                &file,
-                format!("line {line}: expected 6 finite numbers"),
-                &allowed,
-            ));
-        }
-        rows.push(row);
+        rows.sort_by_key(|(sat, _)| *sat);
     }
-    Ok(rows)
+    Ok(rows.into_iter().map(|(_, row)| row).collect())
 }

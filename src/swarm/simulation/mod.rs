@@ -220,16 +220,12 @@ impl Simulation {
                 });
             }
         }
-        let reference_frame = {
-            let accel = config.dynamics.reference_acceleration_m_s2(
-                &config.earth,
-                0.0,
-                &config.reference.position_m,
-                &config.reference.velocity_mps,
-                &config.reference_properties,
-            );
-            LvlhFrame::from_reference_with_acceleration(&config.reference, &accel)
-        };
+        let reference_frame = accelerated_frame_at_start(
+            &config.dynamics,
+            &config.earth,
+            &config.reference,
+            &config.reference_properties,
+        );
         for (i, sat) in satellites.iter().enumerate() {
             if config.dynamics.is_inertial() {
                 let s = reference_frame.from_hill(&sat.relative_state);
@@ -712,6 +708,43 @@ fn condition_problem(
         | ConditionTest::SatellitesLostAtLeast(_)
         | ConditionTest::Conjunction => None,
     })
+}
+
+/// The reference orbit's LVLH frame at t = 0 with its rotation rate's change under the truth forces.
+fn accelerated_frame_at_start(
+    dynamics: &DynamicsModel,
+    earth: &crate::orbit::EarthModel,
+    reference: &CartesianState,
+    reference_properties: &crate::dynamics::PhysicalProperties,
+) -> LvlhFrame {
+    let accel = dynamics.reference_acceleration_m_s2(
+        earth,
+        0.0,
+        &reference.position_m,
+        &reference.velocity_mps,
+        reference_properties,
+    );
+    LvlhFrame::from_reference_with_acceleration(reference, &accel)
+}
+
+/// The Hill state at t = 0, relative to the reference orbit `reference` (EME2000), of a satellite
+/// whose EME2000 state is `state`: the inverse of the map the engine places its satellites and
+/// records their EME2000 states by (the frame with the reference's acceleration under the truth
+/// forces for the inertial models, the plain LVLH frame for the linear and kinematic ones), so a run
+/// started from it records `state` at t = 0 to rounding. `reference_properties` are the virtual
+/// reference's (drag and SRP).
+pub fn hill_state_at_start(
+    dynamics: &DynamicsModel,
+    earth: &crate::orbit::EarthModel,
+    reference: &CartesianState,
+    reference_properties: &crate::dynamics::PhysicalProperties,
+    state: &CartesianState,
+) -> RelativeStateHill {
+    if dynamics.is_inertial() {
+        accelerated_frame_at_start(dynamics, earth, reference, reference_properties).to_hill(state)
+    } else {
+        LvlhFrame::from_reference(reference).to_hill(state)
+    }
 }
 
 /// The SS model of the reference orbit at t = 0: radius and osculating inclination of the LVLH origin's
