@@ -103,17 +103,21 @@ pub enum Purpose {
     /// A campaign's samples of its parameter ranges (`campaign::sampling`): stream = the range's index,
     /// seed = the campaign's sampling seed (not a run's).
     CampaignSampling,
+    /// Physical properties drawn from a distribution (`[satellites] mass_kg = { distribution = … }`):
+    /// one stream per satellite, the tick slot holding the property's index.
+    Properties,
 }
 
 impl Purpose {
     /// Every purpose, in declaration order.
-    pub const ALL: [Purpose; 6] = [
+    pub const ALL: [Purpose; 7] = [
         Purpose::InitialStates,
         Purpose::NavigationNoise,
         Purpose::ProcessNoise,
         Purpose::LawUpdate,
         Purpose::LawCommand,
         Purpose::CampaignSampling,
+        Purpose::Properties,
     ];
 
     /// The purpose's fixed 64-bit tag (eight ASCII characters, big-endian), mixed into the ChaCha key.
@@ -125,6 +129,7 @@ impl Purpose {
             Purpose::LawUpdate => u64::from_be_bytes(*b"law_draw"),
             Purpose::LawCommand => u64::from_be_bytes(*b"law_cmnd"),
             Purpose::CampaignSampling => u64::from_be_bytes(*b"campsmpl"),
+            Purpose::Properties => u64::from_be_bytes(*b"property"),
         }
     }
 }

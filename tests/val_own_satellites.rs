@@ -351,3 +351,115 @@ fn regress_bad_orbit_inputs_are_refused_naming_the_file_and_key() {
         }
     }
 }
+
+/// `count` satellites in a 400 m ball under J2 + exponential drag, `properties` added to
+/// `[satellites]` (which has no mass_kg of its own).
+fn with_drag(count: usize, properties: &str) -> String {
+    format!(
+        "name = \"props\"\nseed = 11\nduration_s = 60.0\nrecord_interval_s = 60.0\n\
+         [dynamics]\nmodel = \"j2\"\nintegrator = \"rk4\"\nstep_s = 5.0\n\
+         [dynamics.forces.gravity]\nmodel = \"j2\"\n\
+         [dynamics.forces.drag]\natmosphere = \"exponential\"\nreference_density_kg_per_m3 = 3.725e-12\n\
+         reference_altitude_m = 400e3\nscale_height_m = 58515.0\n\
+         [reference]\naltitude_m = 400e3\ninclination_deg = 51.6\n\
+         [satellites]\ncount = {count}\n{properties}\n\
+         initial = {{ distribution = \"sphere\", radius_m = 400.0 }}\n[law]\nname = \"none\"\n"
+    )
+}
+
+#[test]
+fn val_properties_file_gives_each_satellite_its_row() {
+    let dir = scratch("props-file");
+    std::fs::write(
+        dir.join("props.csv"),
+        "sat,mass_kg,drag_area_m2,drag_coefficient,radius_m,srp_area_m2\n\
+         2,6.0,0.03,2.3,0.15,0.02\n0,4.0,0.01,2.1,0.1,0.02\n1,5.0,0.02,2.2,0.12,0.02\n",
+    )
+    .unwrap();
+    let prepared = scenario(&with_drag(3, "properties_file = \"props.csv\""), &dir)
+        .prepare()
+        .unwrap();
+    let got: Vec<[f64; 4]> = prepared
+        .satellites
+        .iter()
+        .map(|s| {
+            let p = s.properties;
+            [p.mass_kg, p.drag_area_m2, p.drag_coefficient, s.radius_m]
+        })
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            [4.0, 0.01, 2.1, 0.1],
+            [5.0, 0.02, 2.2, 0.12],
+            [6.0, 0.03, 2.3, 0.15]
+        ]
+    );
+    // srp_area_m2 is read although no SRP model acts: said in the warnings.
+    assert!(
+        prepared.warnings.iter().any(|w| w.contains("srp_area_m2")),
+        "{:?}",
+        prepared.warnings
+    );
+    // A property given both as a key and as a column, and a missing row, are refused.
+    for (properties, needle) in [
+        (
+            "properties_file = \"props.csv\"\nmass_kg = 5.0",
+            "key `satellites.mass_kg`",
+        ),
+        (
+            "properties_file = \"props.csv\"",
+            "has no row for satellite 3",
+        ),
+    ] {
+        let count = if needle.contains("row") { 4 } else { 3 };
+        let e = match scenario(&with_drag(count, properties), &dir).prepare() {
+            Ok(_) => panic!("accepted {properties}"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(needle), "{e}");
+    }
+}
+
+#[test]
+fn val_drawn_properties_follow_their_distribution_and_the_seed() {
+    // 2000 satellites: the uniform draws' mean within 4 standard errors of (min + max)/2, every
+    // draw inside its bounds, the truncated normal's inside [min, max]; the same seed gives the same
+    // draws, another seed other draws.
+    let dir = scratch("props-drawn");
+    let n = 2000;
+    let properties = "mass_kg = { distribution = \"uniform\", min = 4.0, max = 6.0 }\n\
+                      drag_area_m2 = { distribution = \"normal\", mean = 0.02, sigma = 0.005, min = 0.012, max = 0.03 }";
+    let text = with_drag(n, properties).replace("radius_m = 400.0", "radius_m = 4000.0");
+    let draws = |seed: u64| -> (Vec<f64>, Vec<f64>) {
+        let mut s = scenario(&text, &dir);
+        s.file.seed = seed;
+        let p = s.prepare().unwrap();
+        p.satellites
+            .iter()
+            .map(|s| (s.properties.mass_kg, s.properties.drag_area_m2))
+            .unzip()
+    };
+    let (mass, area) = draws(11);
+    assert!(mass.iter().all(|m| (4.0..=6.0).contains(m)));
+    assert!(area.iter().all(|a| (0.012..=0.03).contains(a)));
+    let mean = mass.iter().sum::<f64>() / n as f64;
+    let standard_error = (2.0f64 / 12f64.sqrt()) / (n as f64).sqrt();
+    assert!((mean - 5.0).abs() < 4.0 * standard_error, "mean {mean}");
+    let area_mean = area.iter().sum::<f64>() / n as f64;
+    // Truncation at about -1.6 and +2 sigma moves the mean by less than 0.1 sigma.
+    assert!((area_mean - 0.02).abs() < 0.001, "area mean {area_mean}");
+    assert_eq!(draws(11), (mass.clone(), area.clone()));
+    let (other, _) = draws(12);
+    assert!(other.iter().zip(&mass).filter(|(a, b)| a == b).count() < 5);
+    let e = match scenario(
+        &with_drag(3, "mass_kg = { distribution = \"normal\", mean = 9.0, sigma = 1.0, min = 4.0, max = 6.0 }"),
+        &dir,
+    )
+    .prepare()
+    {
+        Ok(_) => panic!("accepted a mean outside its bounds"),
+        Err(e) => e.to_string(),
+    };
+    assert!(e.contains("satellites.mass_kg.mean"), "{e}");
+}

@@ -214,14 +214,82 @@ pub struct ReferenceSection {
     pub reflectivity_coefficient: Option<f64>,
 }
 
-/// A property of every satellite: one value for all, or one per satellite (in id order).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// A property of every satellite: one value for all, one per satellite (in id order), or drawn.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum PerSatellite {
     /// The same value for every satellite.
     All(f64),
     /// One value per satellite, `count` of them.
     Each(Vec<f64>),
+    /// Drawn for each satellite from the run's random streams (seed, property, satellite).
+    Drawn(PropertyDistribution),
+}
+
+impl<'de> Deserialize<'de> for PerSatellite {
+    /// A number, a list of numbers or a distribution table; anything else is an error saying so
+    /// (an untagged enum would only say that no variant matched).
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = PerSatellite;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(
+                    "a number, a list of one number per satellite, or a distribution table \
+                     { distribution = \"uniform\" | \"normal\", ... }",
+                )
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<PerSatellite, E> {
+                Ok(PerSatellite::All(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<PerSatellite, E> {
+                Ok(PerSatellite::All(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<PerSatellite, E> {
+                Ok(PerSatellite::All(v as f64))
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<PerSatellite, A::Error> {
+                Vec::<f64>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(PerSatellite::Each)
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<PerSatellite, A::Error> {
+                PropertyDistribution::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(PerSatellite::Drawn)
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// The distribution a property is drawn from, in the property's unit.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "distribution", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum PropertyDistribution {
+    /// Uniform on `[min, max]`.
+    Uniform {
+        /// Smallest value.
+        min: f64,
+        /// Largest value.
+        max: f64,
+    },
+    /// Normal of `mean` and standard deviation `sigma`, truncated to `[min, max]` (draws outside are
+    /// drawn again).
+    Normal {
+        /// Mean.
+        mean: f64,
+        /// Standard deviation.
+        sigma: f64,
+        /// Smallest value kept.
+        min: f64,
+        /// Largest value kept.
+        max: f64,
+    },
 }
 
 /// LVLH origin names.
@@ -263,11 +331,16 @@ pub struct ControlSection {
 pub struct SatellitesSection {
     /// Number of satellites (for `list` and `csv` initial states, must match the rows).
     pub count: usize,
-    /// Mass of each satellite \[kg\].
-    pub mass_kg: f64,
-    /// Physical radius of each satellite \[m\] (collisions, d_min; default 0).
-    #[serde(default)]
-    pub radius_m: f64,
+    /// Mass of each satellite \[kg\] (a value, a list or a distribution; or a column of
+    /// `properties_file`).
+    pub mass_kg: Option<PerSatellite>,
+    /// Physical radius of each satellite \[m\] (collisions, d_min; default 0; a value, a list or a
+    /// distribution).
+    pub radius_m: Option<PerSatellite>,
+    /// A CSV of per-satellite properties (`sat` then any of `mass_kg`, `drag_area_m2`,
+    /// `drag_coefficient`, `srp_area_m2`, `reflectivity_coefficient`, `radius_m`), relative to the
+    /// scenario file.
+    pub properties_file: Option<String>,
     /// Actuator acceleration limit \[m/s^2\] (absent: unlimited).
     pub max_accel_mps2: Option<f64>,
     /// How the limit applies: `norm` (default) or `per-axis`.

@@ -8,6 +8,7 @@
 //! | `orbit_inputs.rs` | the orbit files named (OEM, OMM, TLE of the swarm and the reference), read once; the epoch (`epoch_utc`, else the files') |
 //! | `reference.rs` | `[reference]`: the orbit, the origin, the virtual reference's properties |
 //! | `satellites.rs` | `[satellites]`: count, properties, drag attitudes, initial states, overrides, the start at t = 0 |
+//! | `properties.rs` | the per-satellite physical properties: values, lists, distributions, `properties_file` |
 //! | `states_csv.rs` | the CSV files of initial states, confined to the scenario's folder |
 //! | `environment.rs` | `[[threats]]`, `[[obstacles]]` |
 //! | `law.rs` | `[law]`, `[[events]]` |
@@ -18,6 +19,7 @@ mod events;
 mod initial_states;
 mod law;
 mod orbit_inputs;
+mod properties;
 mod reference;
 mod satellites;
 mod settings;
@@ -300,8 +302,9 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         earth: &earth,
         origin,
     };
+    let mut warnings = Vec::new();
     let (satellites, reference_properties) =
-        satellites::satellites(&c, scenario, &swarm, &inputs, epoch)?;
+        satellites::satellites(&c, scenario, &swarm, &inputs, epoch, &mut warnings)?;
     satellites::check_start(&c, f, &swarm, &satellites, integration.max_distance_m)?;
     let sensing = settings::sensing(&c, &f.sensing, mean_motion_rad_s)?;
     let process_noise_m_s2 = settings::process_noise(&c, &f.dynamics, &dynamics)?;
@@ -336,7 +339,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     let min_mass_kg = min_mass_kg(&satellites);
     let law = law::build_law(&c, "law", &f.law, &config, count, min_mass_kg)?;
     let events = events::events(&c, scenario, count, &config, min_mass_kg)?;
-    let warnings = law::law_warnings(&f.law, &satellites);
+    warnings.extend(law::law_warnings(&f.law, &satellites));
     Ok(Prepared {
         epoch,
         name: f.name.clone(),

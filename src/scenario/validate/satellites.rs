@@ -1,12 +1,11 @@
-//! `[satellites]`: the count, the physical properties (one value, per-satellite lists, overrides),
-//! the drag attitudes, the actuators, and the checks of the start at t = 0 (above the ground, within
+//! `[satellites]`: the count, the physical properties (values, lists, distributions and the
+//! properties file, read by `properties.rs`; overrides), the drag attitudes, the actuators, and the checks of the start at t = 0 (above the ground, within
 //! `dynamics.max_distance_m`, no overlap, outside the obstacles).
 
 use nalgebra::Vector3;
 
 use crate::dynamics::PhysicalProperties;
 use crate::environment::Obstacle;
-use crate::invalid::Invalid;
 use crate::orbit::{CartesianState, EarthModel, RelativeStateHill};
 use crate::scenario::schema::{PerSatellite, SatellitesSection, ScenarioFile};
 use crate::scenario::{Scenario, ScenarioError};
@@ -17,6 +16,7 @@ use crate::swarm::{
 use crate::time::Epoch;
 
 use super::orbit_inputs::OrbitInputs;
+use super::properties::{self, Property};
 use super::settings::{base_step_s, force_error};
 use super::{initial_states, reference, Checker, MAX_SATELLITES};
 
@@ -63,27 +63,52 @@ pub(super) fn count(c: &Checker<'_>, s: &SatellitesSection) -> Result<usize, Sce
 
 /// The satellites at t = 0: their initial states, physical properties, radii and actuators, with
 /// the `[[satellites.overrides]]` applied; and the virtual reference's properties (`[reference]`'s,
-/// else the satellites' mean). `inputs` holds the orbit files read, `epoch` is t = 0.
+/// else the satellites' mean). `inputs` holds the orbit files read, `epoch` is t = 0; a property
+/// column no force model reads is said in `warnings`.
 pub(super) fn satellites(
     c: &Checker<'_>,
     scenario: &Scenario,
     swarm: &Swarm<'_>,
     inputs: &OrbitInputs,
     epoch: Epoch,
+    warnings: &mut Vec<String>,
 ) -> Result<(Vec<SatelliteInit>, PhysicalProperties), ScenarioError> {
     let s = &scenario.file.satellites;
     let count = swarm.count;
     let (drag, srp) = swarm.uses();
-    let mass_kg = c.positive("satellites.mass_kg", s.mass_kg)?;
+    let file = properties::read_file(c, scenario, count)?;
+    let seed = scenario.file.seed;
     let drag_attitudes = drag_attitudes(c, s, drag, base_step_s(swarm.control, swarm.step_s))?;
-    let drag_areas = per_satellite(
-        c,
+    let mut values = |name: &'static str, key: &Option<PerSatellite>, used, default| {
+        let property = Property {
+            name,
+            key: key.as_ref(),
+            used,
+            default,
+        };
+        properties::values(c, &property, file.as_ref(), count, seed, warnings)
+    };
+    let masses_kg = values("mass_kg", &s.mass_kg, true, None)?;
+    let radii_m = values("radius_m", &s.radius_m, true, Some(0.0))?;
+    let drag_areas = values(
         "drag_area_m2",
         &s.drag_area_m2,
         drag,
         drag_attitudes.map(|a| a.min_area_m2()),
-        count,
     )?;
+    let drag_coefficients = values("drag_coefficient", &s.drag_coefficient, drag, Some(2.2))?;
+    let srp_areas = values("srp_area_m2", &s.srp_area_m2, srp, None)?;
+    let reflectivities = values(
+        "reflectivity_coefficient",
+        &s.reflectivity_coefficient,
+        srp,
+        Some(1.5),
+    )?;
+    for (id, (m, r)) in masses_kg.iter().zip(&radii_m).enumerate() {
+        let at = |name: &str| format!("satellites.{name} (satellite {id})");
+        c.positive(&at("mass_kg"), *m)?;
+        c.non_negative(&at("radius_m"), *r)?;
+    }
     if let Some(attitudes) = &drag_attitudes {
         if let Some((id, area)) = drag_areas
             .iter()
@@ -98,24 +123,6 @@ pub(super) fn satellites(
             ));
         }
     }
-    let drag_coefficients = per_satellite(
-        c,
-        "drag_coefficient",
-        &s.drag_coefficient,
-        drag,
-        Some(2.2),
-        count,
-    )?;
-    let srp_areas = per_satellite(c, "srp_area_m2", &s.srp_area_m2, srp, None, count)?;
-    let reflectivities = per_satellite(
-        c,
-        "reflectivity_coefficient",
-        &s.reflectivity_coefficient,
-        srp,
-        Some(1.5),
-        count,
-    )?;
-    let radius_m = c.non_negative("satellites.radius_m", s.radius_m)?;
     let max_accel = match s.max_accel_mps2 {
         Some(a) => c.positive("satellites.max_accel_mps2", a)?,
         None => f64::INFINITY,
@@ -126,13 +133,13 @@ pub(super) fn satellites(
         .map(|id| SatelliteInit {
             relative_state: RelativeStateHill::default(),
             properties: PhysicalProperties {
-                mass_kg,
+                mass_kg: masses_kg[id],
                 drag_area_m2: drag_areas[id],
                 drag_coefficient: drag_coefficients[id],
                 srp_area_m2: srp_areas[id],
                 reflectivity_coefficient: reflectivities[id],
             },
-            radius_m,
+            radius_m: radii_m[id],
             actuator: Actuator::new(max_accel, s.accel_limit),
             drag_attitudes,
         })
@@ -292,45 +299,6 @@ fn drag_attitudes(
     built
         .map(Some)
         .map_err(|e| c.keys(key, e.to_string(), allowed))
-}
-
-/// One value per satellite of the `[satellites]` property `name`: a scalar for all, or a list of
-/// `count`. Required (`default` None) or defaulted when a force model reads it (`used`); refused when
-/// none does; 0 when absent and unused.
-fn per_satellite(
-    c: &Checker<'_>,
-    name: &str,
-    value: &Option<PerSatellite>,
-    used: bool,
-    default: Option<f64>,
-    count: usize,
-) -> Result<Vec<f64>, ScenarioError> {
-    let key = format!("satellites.{name}");
-    match (value, used) {
-        (Some(_), false) => Err(unused_property(c, &key)),
-        (None, false) => Ok(vec![0.0; count]),
-        (None, true) => match default {
-            Some(d) => Ok(vec![d; count]),
-            None => Err(c.err(Invalid::missing(
-                &key,
-                "one value for every satellite, or a list of one per satellite: a force model of \
-                 [dynamics.forces] reads it",
-            ))),
-        },
-        (Some(PerSatellite::All(v)), true) => Ok(vec![*v; count]),
-        (Some(PerSatellite::Each(list)), true) => {
-            if list.len() == count {
-                Ok(list.clone())
-            } else {
-                Err(c.bad(
-                    &key,
-                    format!("{} values", list.len()),
-                    format!("for {count} satellites"),
-                    "one value, or exactly one per satellite",
-                ))
-            }
-        }
-    }
 }
 
 /// Refuses an initial state farther from the frame's origin than `dynamics.max_distance_m` (the run

@@ -134,7 +134,10 @@ fn setup(name: &str) -> Result<Setup, ValidateError> {
     Ok(Setup {
         initial,
         ball_radius_m,
-        mass_kg: s.file.satellites.mass_kg,
+        mass_kg: match s.file.satellites.mass_kg {
+            Some(satflock::scenario::schema::PerSatellite::All(m)) => m,
+            _ => return Err(failed(format!("{name}: not one mass for every satellite"))),
+        },
         mean_motion_rad_s: (mu / a.powi(3)).sqrt(),
     })
 }
