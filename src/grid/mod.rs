@@ -431,8 +431,8 @@ impl NeighbourGrid {
         self.occupied = self.cell_keys.len();
     }
 
-    /// Empties the grid, keeping its buffers.
-    fn clear(&mut self) {
+    /// Empties the grid, keeping its buffers: every query then finds nothing.
+    pub fn clear(&mut self) {
         self.radius_m = 0.0;
         self.dims = [1; 3];
         self.layout = GridLayout::Dense;

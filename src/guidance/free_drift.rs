@@ -34,4 +34,8 @@ impl GuidanceLaw for FreeDrift {
     fn set_parameters(&mut self, _parameters: &FreeDriftParameters) -> Result<(), LawError> {
         Ok(())
     }
+
+    fn senses_neighbours(&self) -> bool {
+        false
+    }
 }

@@ -125,6 +125,8 @@ erased_law! {
         pub fn is_stateful() -> bool;
         /// What the law commands.
         pub fn command_kind() -> CommandKind;
+        /// See [`GuidanceLaw::senses_neighbours`].
+        pub fn senses_neighbours() -> bool;
         /// See [`GuidanceLaw::check_swarm`].
         pub fn check_swarm(swarm: &SwarmFacts) -> Result<(), LawError>;
         /// See [`GuidanceLaw::fastest_rate_per_s`] \[1/s\].
@@ -243,6 +245,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn commands_drag(&self) -> bool {
         self.law.as_commands_drag().is_some()
+    }
+
+    fn senses_neighbours(&self) -> bool {
+        self.law.senses_neighbours()
     }
 
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {

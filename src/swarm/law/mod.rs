@@ -189,6 +189,13 @@ pub trait GuidanceLaw: Send + Sync + 'static {
     /// with the current values and validated the result).
     fn set_parameters(&mut self, parameters: &Self::Parameters) -> Result<(), LawError>;
 
+    /// Whether the law reads neighbours (the view's neighbour queries through the sensing grid, or
+    /// the ring); default `true`. A law that never does returns `false`, and the engine then skips
+    /// building the sensing grid for its evaluations (the view's neighbour queries find nothing).
+    fn senses_neighbours(&self) -> bool {
+        true
+    }
+
     /// Checks the law against the swarm it will steer (sensing range, satellite count, threats) without
     /// running it. The scenario layer calls it for the law at t = 0 and for every law an event sets, so a
     /// mismatch is refused when the scenario loads; a law calls it from its own

@@ -210,6 +210,7 @@ impl Simulation {
                 Trigger::Condition(c) if matches!(c.test, ConditionTest::ThreatWithin { .. })
             )
         });
+        let senses_neighbours = law.senses_neighbours();
         let mut state = SwarmState::zeros(n);
         state.set_reference(&config.reference.position_m, &config.reference.velocity_mps);
         if let Some(forces) = config.dynamics.forces() {
@@ -286,7 +287,7 @@ impl Simulation {
                     Vec::new()
                 },
             },
-            sensed: Sensed::new(n),
+            sensed: Sensed::new(n, senses_neighbours),
             drag_commands: if satellites.iter().any(|s| s.drag_attitudes.is_some()) {
                 vec![None; n]
             } else {

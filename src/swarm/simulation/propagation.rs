@@ -41,7 +41,8 @@ impl StageScratch {
     pub fn new(n: usize) -> Self {
         Self {
             truth: vec![RelativeStateHill::default(); n],
-            sensed: Sensed::new(n),
+            // Continuous control builds the grid whatever the law reads.
+            sensed: Sensed::new(n, true),
             applied_hill: vec![Vector3::zeros(); n],
             per_satellite: vec![[0.0; SOLO]; n],
         }

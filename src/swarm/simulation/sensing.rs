@@ -50,10 +50,14 @@ pub(super) struct Sensed {
     /// ring_neighbours`; empty otherwise).
     phases_rad: Vec<f64>,
     ring: RingOrder,
+    /// Whether the running law reads neighbours ([`crate::swarm::GuidanceLaw::senses_neighbours`]):
+    /// when not, the grid is left empty and no ring is built.
+    pub neighbours: bool,
 }
 
 impl Sensed {
-    pub fn new(n: usize) -> Self {
+    /// The buffers for `n` satellites; `neighbours`: whether the law reads neighbours.
+    pub fn new(n: usize, neighbours: bool) -> Self {
         Self {
             navigation: vec![RelativeStateHill::default(); n],
             x: vec![0.0; n],
@@ -62,6 +66,7 @@ impl Sensed {
             grid: NeighbourGrid::new(),
             phases_rad: Vec::new(),
             ring: RingOrder::new(),
+            neighbours,
         }
     }
 
@@ -302,27 +307,36 @@ impl<'a> Plant<'a> {
             grid,
             phases_rad,
             ring,
+            neighbours,
         } = sensed;
         // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
-        // the divergence check after the segment then stops the run and names the satellite.
-        if rebuild_grid([x, y, z], grid, navigation, range_m, ranks) {
+        // the divergence check after the segment then stops the run and names the satellite. A law
+        // that reads no neighbours gets the empty grid.
+        if !*neighbours {
+            grid.clear();
+        } else if rebuild_grid([x, y, z], grid, navigation, range_m, ranks) {
             grid.mask(|i| active[i] && links_up[i]);
         }
-        let ring = self.config.sensing.ring_neighbours.map(|each_side| {
-            // The phase along the orbit ahead of the origin, `atan2(y, R + x)` (R the reference
-            // orbit's radius at t = 0), ordered once per evaluation: O(N log N).
-            let radius_m = self.reference_model.reference_radius_m();
-            phases_rad.resize(navigation.len(), 0.0);
-            phases_rad
-                .par_iter_mut()
-                .with_min_len(CHUNK)
-                .zip(navigation.par_iter())
-                .for_each(|(phase, nav)| {
-                    *phase = nav.position_m.y.atan2(radius_m + nav.position_m.x);
-                });
-            ring.build(phases_rad, ranks, |i| active[i] && links_up[i], each_side);
-            &*ring
-        });
+        let ring = self
+            .config
+            .sensing
+            .ring_neighbours
+            .filter(|_| *neighbours)
+            .map(|each_side| {
+                // The phase along the orbit ahead of the origin, `atan2(y, R + x)` (R the reference
+                // orbit's radius at t = 0), ordered once per evaluation: O(N log N).
+                let radius_m = self.reference_model.reference_radius_m();
+                phases_rad.resize(navigation.len(), 0.0);
+                phases_rad
+                    .par_iter_mut()
+                    .with_min_len(CHUNK)
+                    .zip(navigation.par_iter())
+                    .for_each(|(phase, nav)| {
+                        *phase = nav.position_m.y.atan2(radius_m + nav.position_m.x);
+                    });
+                ring.build(phases_rad, ranks, |i| active[i] && links_up[i], each_side);
+                &*ring
+            });
         let view = SwarmView::new(
             navigation,
             masses_kg,
