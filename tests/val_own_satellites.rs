@@ -321,6 +321,20 @@ fn regress_bad_orbit_inputs_are_refused_naming_the_file_and_key() {
             vec!["satellites.initial.files", "ok.oem", "outside its ephemeris"],
         ),
         (
+            // LEO-A has no state between 12:09 and 12:21 (a gap between its two segments).
+            base(
+                "{ distribution = \"oem\", files = [\"ok.oem\"] }",
+                2,
+                "epoch_utc = \"2026-03-20T12:15:00Z\"\n",
+            ),
+            vec![
+                "satellites.initial.files",
+                "LEO-A",
+                "outside its ephemeris",
+                "12:21:00",
+            ],
+        ),
+        (
             base(
                 "{ distribution = \"list\", frame = \"itrf\", states = [[7e6, 0.0, 0.0, 0.0, 7.5e3, 0.0]] }",
                 1,

@@ -354,6 +354,60 @@ fn val_scenarios_show_file_prints_a_builtins_orbit_file_and_a_copy_runs() {
 }
 
 #[test]
+fn regress_a_bad_orbit_file_exits_2_naming_the_file_line_and_key() {
+    // Issue 27: a TLE whose line 1 checksum is wrong, as `satflock run` reports it.
+    let dir = scratch_dir("bad-tle");
+    let tle = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/orbit_files/iss.tle"),
+    )
+    .unwrap();
+    let bad: Vec<String> = tle
+        .lines()
+        .map(
+            |l| match l.strip_suffix('7').filter(|_| l.starts_with("1 ")) {
+                Some(head) => format!("{head}8"),
+                None => l.to_string(),
+            },
+        )
+        .collect();
+    assert_ne!(
+        bad.join("\n"),
+        tle.trim_end(),
+        "the fixture's line 1 ends in 7"
+    );
+    std::fs::write(dir.join("bad.tle"), bad.join("\n")).unwrap();
+    std::fs::write(
+        dir.join("case.toml"),
+        "name = \"bad-tle\"\nseed = 1\nduration_s = 60.0\nrecord_interval_s = 60.0\n\
+         [reference]\naltitude_m = 400e3\ninclination_deg = 51.6\n\
+         [satellites]\ncount = 1\nmass_kg = 4.0\n\
+         initial = { distribution = \"tle\", file = \"bad.tle\" }\n[law]\nname = \"none\"\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let output = satflock()
+        .arg("run")
+        .arg(dir.join("case.toml"))
+        .args(["--out"])
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    for needle in [
+        "case.toml",
+        "key `satellites.initial.file`",
+        "bad.tle line 2",
+        "checksum 8",
+    ] {
+        assert!(stderr.contains(needle), "`{needle}` missing: {stderr}");
+    }
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
     let output = satflock().args(["validate", "core"]).output().unwrap();
     assert!(
