@@ -10,6 +10,14 @@ use crate::time::Epoch;
 
 use super::{states_csv, Checker};
 
+/// The format of an orbit file.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Format {
+    Oem,
+    Omm,
+    Tle,
+}
+
 /// The objects of one orbit input: OEM objects, or SGP4 element sets (OMM, TLE).
 enum Objects {
     Oem(Vec<OemObject>),
@@ -87,7 +95,7 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
     let builtin = scenario.source.strip_prefix("builtin:");
     let read_files = |key: &str,
                       names: &[String],
-                      kind: &str|
+                      format: Format|
      -> Result<OrbitInput, ScenarioError> {
         let fail = |e: orbit_files::OrbitFileError| c.keys(key, e.to_string(), "");
         // A built-in scenario's files are embedded with it; others are on the disk, in its folder.
@@ -104,14 +112,20 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
                 let mut oem = Vec::new();
                 let mut sgp4 = Vec::new();
                 for (name, text) in &texts {
-                    match kind {
-                        "oem" => oem.extend(orbit_files::parse_oem(text, name).map_err(fail)?),
-                        "omm" => sgp4.extend(orbit_files::parse_omm(text, name).map_err(fail)?),
-                        _ => sgp4.extend(orbit_files::parse_tle(text, name).map_err(fail)?),
+                    match format {
+                        Format::Oem => {
+                            oem.extend(orbit_files::parse_oem(text, name).map_err(fail)?)
+                        }
+                        Format::Omm => {
+                            sgp4.extend(orbit_files::parse_omm(text, name).map_err(fail)?)
+                        }
+                        Format::Tle => {
+                            sgp4.extend(orbit_files::parse_tle(text, name).map_err(fail)?)
+                        }
                     }
                 }
                 let names: Vec<&str> = texts.iter().map(|(n, _)| n.as_str()).collect();
-                let objects = if kind == "oem" {
+                let objects = if format == Format::Oem {
                     Objects::Oem(oem)
                 } else {
                     Objects::Sgp4(sgp4)
@@ -128,10 +142,14 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
                     };
                     paths.push(states_csv::resolve(c, &key_k, &scenario.base_dir, name)?);
                 }
-                let objects = match kind {
-                    "oem" => Objects::Oem(orbit_files::read_oem_files(&paths).map_err(fail)?),
-                    "omm" => Objects::Sgp4(orbit_files::read_omm_file(&paths[0]).map_err(fail)?),
-                    _ => Objects::Sgp4(orbit_files::read_tle_file(&paths[0]).map_err(fail)?),
+                let objects = match format {
+                    Format::Oem => Objects::Oem(orbit_files::read_oem_files(&paths).map_err(fail)?),
+                    Format::Omm => {
+                        Objects::Sgp4(orbit_files::read_omm_file(&paths[0]).map_err(fail)?)
+                    }
+                    Format::Tle => {
+                        Objects::Sgp4(orbit_files::read_tle_file(&paths[0]).map_err(fail)?)
+                    }
                 };
                 let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
                 (names.join(", "), objects)
@@ -156,17 +174,17 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
                     "one or more OEM files",
                 ));
             }
-            Some(read_files("satellites.initial.files", files, "oem")?)
+            Some(read_files("satellites.initial.files", files, Format::Oem)?)
         }
         InitialSection::Omm { file } => Some(read_files(
             "satellites.initial.file",
             std::slice::from_ref(file),
-            "omm",
+            Format::Omm,
         )?),
         InitialSection::Tle { file } => Some(read_files(
             "satellites.initial.file",
             std::slice::from_ref(file),
-            "tle",
+            Format::Tle,
         )?),
         _ => None,
     };
@@ -175,12 +193,12 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
         (Some(file), None, None) => Some(read_files(
             "reference.oem",
             std::slice::from_ref(file),
-            "oem",
+            Format::Oem,
         )?),
         (None, Some(file), None) => Some(read_files(
             "reference.omm",
             std::slice::from_ref(file),
-            "omm",
+            Format::Omm,
         )?),
         (None, None, Some(lines)) => Some(inline_tle(c, lines)?),
         (None, None, None) => None,

@@ -54,17 +54,12 @@ pub(super) fn read_file(
         count.saturating_sub(1)
     );
     let bad = |problem: String| c.bad(key, &file, problem, &allowed);
-    let mut reader = crate::input_file::open(&path, MAX_STATES_CSV_BYTES)
-        .map(csv::Reader::from_reader)
-        .map_err(|e| {
-            c.io(
-                Invalid::new(key, &file, format!("cannot be read: {e}"), &allowed),
-                e,
-            )
-        })?;
+    let csv_error =
+        |line: String, e: csv::Error| states_csv::read_error(c, key, &path, &allowed, &line, e);
+    let mut reader = states_csv::open_csv(c, key, &path, &allowed)?;
     let header = reader
         .headers()
-        .map_err(|e| bad(format!("line 1: {e}")))?
+        .map_err(|e| csv_error("line 1".into(), e))?
         .clone();
     let names: Vec<&str> = header.iter().map(str::trim).collect();
     if names.first() != Some(&"sat") || names.len() < 2 {
@@ -85,7 +80,7 @@ pub(super) fn read_file(
     let mut seen = vec![false; count];
     for (row, record) in reader.records().enumerate() {
         let line = row + 2;
-        let record = record.map_err(|e| bad(format!("line {line}: {e}")))?;
+        let record = record.map_err(|e| csv_error(format!("line {line}"), e))?;
         if record.len() != names.len() {
             return Err(bad(format!(
                 "line {line}: expected {} columns, found {}",

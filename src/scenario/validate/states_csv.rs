@@ -60,6 +60,42 @@ pub(super) fn resolve(
     Ok(full)
 }
 
+/// Opens the CSV file at `path` (given by `key`) through the bounded reader (a regular file of at most
+/// [`MAX_STATES_CSV_BYTES`]); `allowed` says what the file must be.
+pub(super) fn open_csv(
+    c: &Checker<'_>,
+    key: &str,
+    path: &Path,
+    allowed: &str,
+) -> Result<csv::Reader<std::fs::File>, ScenarioError> {
+    crate::input_file::open(path, MAX_STATES_CSV_BYTES)
+        .map(csv::Reader::from_reader)
+        .map_err(|e| {
+            c.io(
+                Invalid::new(key, path.display(), format!("cannot be read: {e}"), allowed),
+                e,
+            )
+        })
+}
+
+/// The error of reading `line` (`line N`) of the CSV file at `path` (given by `key`): the system's
+/// error kept as the source when it is one.
+pub(super) fn read_error(
+    c: &Checker<'_>,
+    key: &str,
+    path: &Path,
+    allowed: &str,
+    line: &str,
+    e: csv::Error,
+) -> ScenarioError {
+    let file = path.display();
+    let problem = format!("{line}: {e}");
+    match e.into_kind() {
+        csv::ErrorKind::Io(io) => c.io(Invalid::new(key, file, problem, allowed), io),
+        _ => c.bad(key, file, problem, allowed),
+    }
+}
+
 /// One row of a states CSV: the state and, with a `frame` column, its frame.
 pub(super) struct StateRow {
     /// `[x, y, z, vx, vy, vz]` \[m, m/s\].
@@ -83,21 +119,8 @@ pub(super) fn read_states_csv(
          a row, at most {MAX_STATES_CSV_BYTES} bytes",
         HEADER.join(",")
     );
-    let csv_error = |line: String, e: csv::Error| {
-        let problem = format!("{line}: {e}");
-        match e.into_kind() {
-            csv::ErrorKind::Io(io) => c.io(Invalid::new(key, &file, problem, &allowed), io),
-            _ => c.bad(key, &file, problem, &allowed),
-        }
-    };
-    let mut reader = crate::input_file::open(path, MAX_STATES_CSV_BYTES)
-        .map(csv::Reader::from_reader)
-        .map_err(|e| {
-            c.io(
-                Invalid::new(key, &file, format!("cannot be read: {e}"), &allowed),
-                e,
-            )
-        })?;
+    let csv_error = |line: String, e: csv::Error| read_error(c, key, path, &allowed, &line, e);
+    let mut reader = open_csv(c, key, path, &allowed)?;
     let header = reader
         .headers()
         .map_err(|e| csv_error("line 1".into(), e))?
