@@ -1138,3 +1138,61 @@ fn val_advance_to_each_recording_time_equals_one_run() {
         assert!(ma.swarm_threat_minimum().is_some());
     }
 }
+
+/// Counts, over all its evaluations, the neighbours its satellites saw.
+struct CountsNeighbours(std::sync::Arc<std::sync::atomic::AtomicUsize>);
+
+impl GuidanceLaw for CountsNeighbours {
+    type State = ();
+    type Parameters = ();
+
+    fn name(&self) -> &'static str {
+        "counts-neighbours"
+    }
+
+    fn command(&self, satellite: &SatelliteView<'_>, _: &(), _: &LawContext) -> Vector3<f64> {
+        let mut seen = 0;
+        satellite.for_each_neighbour(|_| seen += 1);
+        self.0.fetch_add(seen, std::sync::atomic::Ordering::Relaxed);
+        Vector3::zeros()
+    }
+
+    fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
+        Ok(())
+    }
+}
+
+#[test]
+fn regress_a_law_switched_in_after_none_senses_its_neighbours() {
+    // `none` reads no neighbours, so the engine builds no sensing grid for it; a switch-law event to
+    // a law that reads them must give it the grid again: three satellites 20 m apart (range 100 m)
+    // see two neighbours each at every tick after the switch at 10 s (20 s of 1 s ticks, 30 s run).
+    let seen = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    let initial = [
+        state([0.0; 3], [0.0; 3]),
+        state([0.0, 20.0, 0.0], [0.0; 3]),
+        state([0.0, -20.0, 0.0], [0.0; 3]),
+    ];
+    let cfg = config(
+        DynamicsModel::Hcw(Hcw::new(n())),
+        ControlTiming::Sampled { period_s: 1.0 },
+        30.0,
+    );
+    let switch = Event::at(
+        0,
+        10.0,
+        EventAction::SwitchLaw(Law::new(CountsNeighbours(seen.clone()))),
+    );
+    let mut sim = Simulation::new(
+        cfg,
+        &satellites(&initial),
+        Law::new(FreeDrift),
+        vec![switch],
+    )
+    .unwrap();
+    sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
+    let total = seen.load(std::sync::atomic::Ordering::Relaxed);
+    // 3 satellites × 2 neighbours × the ticks from the switch on (10 s … 29 s or 30 s).
+    assert!(total >= 3 * 2 * 20, "{total} neighbour visits");
+    assert_eq!(total % 6, 0, "{total}");
+}
