@@ -330,6 +330,7 @@ fn config(step_s: f64, control: ControlTiming, range_m: f64) -> SimulationConfig
         process_noise_m_s2: 0.0,
         threats: vec![],
         obstacles: vec![],
+        tracked_objects: Vec::new(),
         max_distance_m: 1e6,
         seed: 1,
     }

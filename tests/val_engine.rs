@@ -53,6 +53,7 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
         process_noise_m_s2: 0.0,
         threats: vec![],
         obstacles: vec![],
+        tracked_objects: Vec::new(),
         max_distance_m: 1e6,
         seed: 5,
     }

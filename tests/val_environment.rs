@@ -9,7 +9,7 @@ use rand::{RngExt, SeedableRng};
 use satflock::environment::{
     closest_approach_to_line, closest_approach_to_threat, min_distance_to_point,
     obstacle_clearance, Approach, ApproachMonitor, EnvironmentError, HermiteSegment, LinearMotion,
-    Obstacle, Threat,
+    Motion, Obstacle, Threat,
 };
 
 fn rel_err(a: f64, b: f64) -> f64 {
@@ -88,7 +88,7 @@ fn straight_line_flyby_matches_closed_form() {
 
     // Reference from the actual floating-point data: r(t) = r0 + v t, relative satellite − threat.
     let r0 = p_sat - threat.position_hill_m(0.0);
-    let v_rel = u_sat - threat.velocity_hill_mps();
+    let v_rel = u_sat - threat.velocity_hill_mps(0.0);
     let t_star = -r0.dot(&v_rel) / v_rel.dot(&v_rel);
     let d_star = (r0 + v_rel * t_star).norm();
     assert!(t_star > 30.0 && t_star < 40.0 && (d_star - 25.0).abs() < 1e-9);
@@ -314,7 +314,7 @@ fn from_aim_passes_the_aim_point_at_arrival() {
     let t = Threat::from_aim("aimed", aim, dir, 20.0, 432.1, 15.0).unwrap();
     assert_eq!(t.position_hill_m(432.1), aim);
     let expected_v = v(12.0, 16.0, 0.0);
-    assert!((t.velocity_hill_mps() - expected_v).norm() < 1e-13);
+    assert!((t.velocity_hill_mps(0.0) - expected_v).norm() < 1e-13);
     let later = t.position_hill_m(442.1);
     assert!((later - (aim + expected_v * 10.0)).norm() < 1e-11);
     assert_eq!(t.name(), "aimed");
@@ -324,13 +324,16 @@ fn from_aim_passes_the_aim_point_at_arrival() {
     assert_eq!(t.detection_range_m(), Some(2000.0));
     // Huge and tiny direction vectors are normalised without overflow or underflow.
     let big = Threat::from_aim("big", aim, v(1e300, 1e300, 0.0), 2.0, 0.0, 0.0).unwrap();
-    assert!((big.velocity_hill_mps() - v(2f64.sqrt(), 2f64.sqrt(), 0.0)).norm() < 1e-14);
+    assert!((big.velocity_hill_mps(0.0) - v(2f64.sqrt(), 2f64.sqrt(), 0.0)).norm() < 1e-14);
     let tiny = Threat::from_aim("tiny", aim, v(0.0, 0.0, -1e-310), 2.0, 0.0, 0.0).unwrap();
-    assert_eq!(tiny.velocity_hill_mps(), v(0.0, 0.0, -2.0));
+    assert_eq!(tiny.velocity_hill_mps(0.0), v(0.0, 0.0, -2.0));
 
     let s = Threat::from_state("state", 5.0, aim, expected_v, 0.0).unwrap();
     assert_eq!(s.position_hill_m(5.0), aim);
-    assert_eq!(s.line().reference_time_s, 5.0);
+    let Motion::Line(line) = s.motion() else {
+        panic!("a threat from a state moves on a line")
+    };
+    assert_eq!(line.reference_time_s, 5.0);
 }
 
 #[test]
@@ -473,12 +476,12 @@ fn straight(t0: f64, t1: f64, a: Vector3<f64>, b: Vector3<f64>) -> HermiteSegmen
 #[test]
 fn obstacle_surface_distance() {
     let o = Obstacle::new("rock", v(10.0, 0.0, 0.0), 5.0).unwrap();
-    assert_eq!(o.surface_distance_m(&v(10.0, 0.0, 0.0)), -5.0);
-    assert_eq!(o.surface_distance_m(&v(10.0, 3.0, 0.0)), -2.0);
-    assert_eq!(o.surface_distance_m(&v(10.0, 0.0, 5.0)), 0.0);
-    assert_eq!(o.surface_distance_m(&v(22.0, 0.0, 0.0)), 7.0);
+    assert_eq!(o.surface_distance_m(&v(10.0, 0.0, 0.0), 0.0), -5.0);
+    assert_eq!(o.surface_distance_m(&v(10.0, 3.0, 0.0), 0.0), -2.0);
+    assert_eq!(o.surface_distance_m(&v(10.0, 0.0, 5.0), 0.0), 0.0);
+    assert_eq!(o.surface_distance_m(&v(22.0, 0.0, 0.0), 0.0), 7.0);
     assert_eq!(o.name(), "rock");
-    assert_eq!(o.center_hill_m(), v(10.0, 0.0, 0.0));
+    assert_eq!(o.center_hill_m(0.0), v(10.0, 0.0, 0.0));
     assert_eq!(o.radius_m(), 5.0);
 }
 
@@ -492,7 +495,7 @@ fn segment_through_a_sphere() {
         (c.clearance_m - (3.0 - 10.0)).abs() < 1e-12 && (c.time_s - 5.0).abs() < 1e-12,
         "{c:?}"
     );
-    let a = min_distance_to_point(&seg, &o.center_hill_m());
+    let a = min_distance_to_point(&seg, &o.center_hill_m(0.0));
     assert!((a.distance_m - 3.0).abs() < 1e-12);
     let mut m = ApproachMonitor::new(1, 0, 1);
     m.observe_segment(0, &seg, &[], std::slice::from_ref(&o))
@@ -578,7 +581,7 @@ fn grazing_segment_outside_the_sphere() {
     // Straight path at 10.5 m from the centre, closest at t = 3 + 0.4·10 s.
     let dir = v(1.0, 1.0, 0.0).normalize();
     let normal = v(0.0, 0.0, 1.0);
-    let closest = o.center_hill_m() + normal * 10.5;
+    let closest = o.center_hill_m(0.0) + normal * 10.5;
     let seg = straight(3.0, 13.0, closest - dir * 40.0, closest + dir * 60.0);
     let c = obstacle_clearance(&seg, &o);
     assert!((c.clearance_m - 0.5).abs() < 1e-12, "{c:?}");
@@ -707,7 +710,7 @@ fn monitor_minima_equal_minimum_over_segments() {
             if sat_obstacle.is_none_or(|b| reference.clearance_m < b.0) {
                 sat_obstacle = Some((reference.clearance_m, j));
             }
-            let dense = dense_entries(segs, o, |o, _| o.center_hill_m());
+            let dense = dense_entries(segs, o, |o, _| o.center_hill_m(0.0));
             assert_eq!(
                 m.obstacle_incursions(i, j),
                 dense,

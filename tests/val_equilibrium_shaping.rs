@@ -449,6 +449,7 @@ fn config(
         process_noise_m_s2: 0.0,
         threats,
         obstacles: vec![],
+        tracked_objects: Vec::new(),
         max_distance_m: 1e6,
         seed: 11,
     }
@@ -954,7 +955,7 @@ fn val_feedforward_is_the_material_derivative_along_known_trajectories() {
                         own_position_hill_m: s.position_m,
                         warned_threat_hill: Some((
                             threat.position_hill_m(0.5),
-                            threat.velocity_hill_mps(),
+                            threat.velocity_hill_mps(0.0),
                         )),
                         sensed_threat_distance_m: None,
                         pair_rms_error_m: 0.0,
@@ -1225,7 +1226,7 @@ fn val_tracking_error_decays_exactly_at_the_tracking_gain() {
                     own_position_hill_m: s.position_m,
                     warned_threat_hill: Some((
                         threat.position_hill_m(0.0),
-                        threat.velocity_hill_mps(),
+                        threat.velocity_hill_mps(0.0),
                     )),
                     sensed_threat_distance_m: None,
                     pair_rms_error_m: 0.0,

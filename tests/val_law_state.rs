@@ -61,6 +61,7 @@ fn config(dynamics: DynamicsModel, control: ControlTiming, duration_s: f64) -> S
         process_noise_m_s2: 0.0,
         threats: vec![],
         obstacles: vec![],
+        tracked_objects: Vec::new(),
         max_distance_m: 1e6,
         seed: 5,
     }
@@ -676,7 +677,7 @@ fn val_threat_closest_approach_between_samples_matches_geometry() {
     let closing = |t: f64| {
         let s = hcw.propagate(&initial[1].to_vector6(), t);
         let d = Vector3::new(s[0], s[1], s[2]) - threat.position_hill_m(t);
-        let dv = Vector3::new(s[3], s[4], s[5]) - threat.velocity_hill_mps();
+        let dv = Vector3::new(s[3], s[4], s[5]) - threat.velocity_hill_mps(0.0);
         d.dot(&dv)
     };
     let (mut lo, mut hi) = (coarse - 0.01, coarse + 0.01);

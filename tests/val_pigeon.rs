@@ -128,6 +128,7 @@ fn config(
         process_noise_m_s2: 0.0,
         threats: vec![],
         obstacles: obstacles(),
+        tracked_objects: Vec::new(),
         max_distance_m: 1e6,
         seed: 2024,
     }

@@ -408,6 +408,74 @@ fn regress_a_bad_orbit_file_exits_2_naming_the_file_line_and_key() {
 }
 
 #[test]
+fn val_a_real_object_as_threat_runs_and_a_bad_one_exits_2() {
+    // Issue 27: a threat from an OMM file, propagated by SGP4 during the run; the same file without
+    // its epoch is refused naming the key.
+    let dir = scratch_dir("omm-threat");
+    let omm = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/orbit_files/iss.omm"),
+    )
+    .unwrap();
+    std::fs::write(dir.join("debris.omm"), &omm).unwrap();
+    let no_epoch: Vec<&str> = omm.lines().filter(|l| !l.starts_with("EPOCH")).collect();
+    std::fs::write(dir.join("broken.omm"), no_epoch.join("\n")).unwrap();
+    let case = |file: &str| {
+        format!(
+            "name = \"omm-threat\"\nseed = 1\nduration_s = 120.0\nrecord_interval_s = 60.0\n\
+             epoch_utc = \"2008-09-20T13:00:00Z\"\n\
+             [reference]\naltitude_m = 400e3\ninclination_deg = 51.6\n\
+             [satellites]\ncount = 2\nmass_kg = 4.0\n\
+             initial = {{ distribution = \"list\", states = [[0, 0, 0, 0, 0, 0], [0, 50, 0, 0, 0, 0]] }}\n\
+             [law]\nname = \"none\"\n\
+             [[threats]]\nname = \"debris\"\ndanger_radius_m = 10.0\nomm = \"{file}\"\n"
+        )
+    };
+    std::fs::write(dir.join("good.toml"), case("debris.omm")).unwrap();
+    std::fs::write(dir.join("bad.toml"), case("broken.omm")).unwrap();
+    let run = |name: &str, out: &std::path::Path| {
+        satflock()
+            .arg("run")
+            .arg(dir.join(name))
+            .args(["--out"])
+            .arg(out)
+            .arg("--quiet")
+            .output()
+            .unwrap()
+    };
+    let good = dir.join("good-out");
+    let output = run("good.toml", &good);
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let scene: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(good.join("scene.json")).unwrap()).unwrap();
+    assert_eq!(
+        scene["threats"][0]["tracked"],
+        serde_json::Value::Bool(true)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(good.join("summary.json")).unwrap()).unwrap();
+    let environment = &summary["environment"];
+    assert_eq!(environment["threats"][0], "debris");
+    // The ISS is on another orbit: its closest approach is a finite distance of kilometres or more.
+    let closest = environment["closest_threat_approach"]["minimum"]["distance_m"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no closest approach in {environment}"));
+    assert!(closest.is_finite() && closest > 1e3, "{closest}");
+    let bad = dir.join("bad-out");
+    let output = run("bad.toml", &bad);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    for needle in ["bad.toml", "key `threats[0].omm`", "EPOCH"] {
+        assert!(stderr.contains(needle), "`{needle}` missing: {stderr}");
+    }
+    assert!(!bad.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn val_validate_core_prints_a_table_and_unknown_targets_exit_2() {
     let output = satflock().args(["validate", "core"]).output().unwrap();
     assert!(

@@ -102,7 +102,7 @@ fn regress_n2_mechanism_rhombus_rides_ahead_of_the_threat() {
     let standoff = parallel_standoff_m(
         law.threat_scale_mps,
         2.0 * (law.physical_sensing_radius_m / 3.0).powi(2),
-        threat.velocity_hill_mps().norm(),
+        threat.velocity_hill_mps(0.0).norm(),
     );
     assert!(
         standoff < law.physical_sensing_radius_m,

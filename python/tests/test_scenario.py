@@ -110,3 +110,21 @@ def test_from_dict_takes_a_numpy_array_of_eme2000_states():
     np.testing.assert_allclose(sim.velocities_eci, states[:, 3:], rtol=0, atol=1e-10)
     # The same satellites, so the same Hill states.
     np.testing.assert_allclose(sim.positions_hill, hill.positions_hill, rtol=0, atol=1e-7)
+
+
+def test_a_threat_given_by_an_inertial_state_sits_where_the_state_puts_it():
+    """Issue 27: a real object as a threat from Python (`state_eme2000` as a numpy row, propagated by
+    the truth dynamics): a threat started on a satellite's own EME2000 state is at that satellite's
+    Hill position, and the run's closest approach to it is zero at t = 0."""
+    d = satflock.Scenario.load("hold").to_dict()
+    base = satflock.Simulation(satflock.Scenario.from_dict(d))
+    state = np.concatenate([base.positions_eci[1], base.velocities_eci[1]])
+    d["threats"] = [{"name": "twin", "danger_radius_m": 1.0, "state_eme2000": state}]
+    d.pop("events", None)
+    d["duration_s"] = 60.0
+    d["record_interval_s"] = 60.0
+    scenario = satflock.Scenario.from_dict(d)
+    assert scenario["threats.0.state_eme2000"] == state.tolist()
+    result = satflock.run(scenario, progress=False)
+    closest = result.summary["environment"]["min_threat_distance_per_satellite_m"][1]
+    assert closest == pytest.approx(0.0, abs=1e-6)

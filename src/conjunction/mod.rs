@@ -37,7 +37,7 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 use crate::environment::closest_approach::lower_bound_m;
-use crate::environment::{HermiteSegment, LinearMotion, Obstacle, Threat};
+use crate::environment::{HermiteSegment, Motion, Obstacle, Threat};
 use crate::grid::NeighbourError;
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use encounter::{walk, Candidate};
@@ -277,23 +277,24 @@ impl ConjunctionMonitor {
             let c = primary.cubic_to(&ends.segment(s));
             note((pid, Secondary::Satellite(sid)), &primary, &c, &mut open);
         }
-        let lines: Vec<(Secondary, LinearMotion)> = segment
+        let objects: Vec<(Secondary, Motion)> = segment
             .threats
             .iter()
             .enumerate()
-            .map(|(k, t)| (Secondary::Threat(k), *t.line()))
-            .chain(segment.obstacles.iter().enumerate().map(|(k, o)| {
-                (
-                    Secondary::Obstacle(k),
-                    LinearMotion::fixed(o.center_hill_m()),
-                )
-            }))
+            .map(|(k, t)| (Secondary::Threat(k), *t.motion()))
+            .chain(
+                segment
+                    .obstacles
+                    .iter()
+                    .enumerate()
+                    .map(|(k, o)| (Secondary::Obstacle(k), *o.motion())),
+            )
             .collect();
-        if !lines.is_empty() {
-            for (i, k) in near_objects(&ends, &lines, threshold_m) {
+        if !objects.is_empty() {
+            for (i, k) in near_objects(&ends, &objects, threshold_m) {
                 let primary = ends.segment(i);
-                let c = primary.relative_cubic(&lines[k].1).map(|v| -v);
-                note(((segment.id_of)(i), lines[k].0), &primary, &c, &mut open);
+                let c = objects[k].1.relative_cubic(&primary).map(|v| -v);
+                note(((segment.id_of)(i), objects[k].0), &primary, &c, &mut open);
             }
         }
         found.sort_by(|x, y| {
@@ -312,19 +313,27 @@ impl ConjunctionMonitor {
 /// the distance at the end minus the satellite's sweep and the object's travel over the segment.
 fn near_objects(
     ends: &Ends<'_>,
-    lines: &[(Secondary, LinearMotion)],
+    objects: &[(Secondary, Motion)],
     threshold_m: f64,
 ) -> Vec<(usize, usize)> {
-    let h = ends.t1_s - ends.t0_s;
+    let (t0_s, t1_s) = (ends.t0_s, ends.t1_s);
+    let objects: Vec<(Vector3<f64>, f64)> = objects
+        .iter()
+        .map(|(_, motion)| {
+            (
+                motion.position_hill_m(t1_s),
+                motion.travel_bound_m(t0_s, t1_s),
+            )
+        })
+        .collect();
     ends.live
         .par_iter()
         .with_min_len(4096)
         .fold(Vec::new, |mut near, &i| {
             let segment = ends.segment(i);
             let sweep_m = segment.sweep_bound_m();
-            for (k, (_, line)) in lines.iter().enumerate() {
-                let gap = segment.p1_hill_m - line.position_hill_m(ends.t1_s);
-                let travel_m = line.velocity_hill_mps.norm() * h;
+            for (k, &(end_m, travel_m)) in objects.iter().enumerate() {
+                let gap = segment.p1_hill_m - end_m;
                 // A relative margin covers the rounding of the bound itself.
                 let margin_m = 1e-9 * (gap.norm() + sweep_m + travel_m);
                 if gap.norm() - sweep_m - travel_m - margin_m < threshold_m {

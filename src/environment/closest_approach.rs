@@ -52,8 +52,9 @@
 
 use nalgebra::Vector3;
 
+use super::motion::{LinearMotion, Motion};
 use super::obstacle::Obstacle;
-use super::threat::{LinearMotion, Threat};
+use super::threat::Threat;
 use super::{check_finite, check_finite_vector, EnvironmentError};
 
 /// Cubic Hermite interpolant of a satellite's Hill position over one integration segment `[t0_s, t1_s]`,
@@ -200,18 +201,24 @@ pub struct Clearance {
 /// Minimum over `[segment.t0_s, segment.t1_s]` of the distance (m) between the segment's interpolated
 /// position and the threat's centre, and its time (s); both in the Hill frame.
 pub fn closest_approach_to_threat(segment: &HermiteSegment, threat: &Threat) -> Approach {
-    closest_approach_to_line(segment, threat.line())
+    closest_approach_to(segment, threat.motion())
 }
 
-/// Minimum over `[segment.t0_s, segment.t1_s]` of the distance (m) between the segment's interpolated
-/// position and an object in uniform straight-line motion (Hill frame), and its time (s).
-pub fn closest_approach_to_line(segment: &HermiteSegment, line: &LinearMotion) -> Approach {
-    let c = segment.relative_cubic(line);
+/// Minimum over the segment of the distance (m) between the segment's interpolated position and an
+/// object moving by `motion` (Hill frame), and its time (s).
+fn closest_approach_to(segment: &HermiteSegment, motion: &Motion) -> Approach {
+    let c = motion.relative_cubic(segment);
     let (s, distance_m) = scan(&c).minimum(&c);
     Approach {
         time_s: segment.time_at(s),
         distance_m,
     }
+}
+
+/// Minimum over `[segment.t0_s, segment.t1_s]` of the distance (m) between the segment's interpolated
+/// position and an object in uniform straight-line motion (Hill frame), and its time (s).
+pub fn closest_approach_to_line(segment: &HermiteSegment, line: &LinearMotion) -> Approach {
+    closest_approach_to(segment, &Motion::Line(*line))
 }
 
 /// Minimum over `[segment.t0_s, segment.t1_s]` of the distance (m) from the segment's interpolated
@@ -224,7 +231,7 @@ pub fn min_distance_to_point(segment: &HermiteSegment, point_hill_m: &Vector3<f6
 /// Minimum over the segment of the distance (m) from the satellite's centre to the obstacle's surface
 /// (negative inside), and its time (s).
 pub fn obstacle_clearance(segment: &HermiteSegment, obstacle: &Obstacle) -> Clearance {
-    let a = min_distance_to_point(segment, &obstacle.center_hill_m());
+    let a = closest_approach_to(segment, obstacle.motion());
     Clearance {
         time_s: a.time_s,
         clearance_m: a.distance_m - obstacle.radius_m(),

@@ -5,8 +5,9 @@
 //!
 //! | module | holds |
 //! | --- | --- |
-//! | [`threat`] | [`Threat`]: an object on a straight line at constant velocity in the Hill frame, with a danger radius |
-//! | [`obstacle`] | [`Obstacle`]: a sphere static in the Hill frame |
+//! | [`motion`] | [`Motion`]: how an object moves — a straight line ([`LinearMotion`], a fixed point for a static obstacle) or a real object's [`TrackedPath`], placed by the engine at every segment end |
+//! | [`threat`] | [`Threat`]: an object on a straight line at constant velocity in the Hill frame or on a tracked path, with a danger radius |
+//! | [`obstacle`] | [`Obstacle`]: a sphere static in the Hill frame or centred on a tracked path |
 //! | [`closest_approach`] | [`HermiteSegment`] (a satellite's path over one integration segment) and the exact minimum distance of such a segment to a moving line or a fixed point |
 //! | [`monitor`] | [`ApproachMonitor`]: per-run minima of satellite–threat distance and satellite–obstacle clearance, and incursion counts |
 //!
@@ -19,6 +20,7 @@ use thiserror::Error;
 
 pub mod closest_approach;
 pub mod monitor;
+pub mod motion;
 pub mod obstacle;
 pub mod threat;
 
@@ -27,8 +29,9 @@ pub use closest_approach::{
     obstacle_clearance, Approach, Clearance, HermiteSegment,
 };
 pub use monitor::{ApproachMonitor, PairMinimum};
+pub use motion::{LinearMotion, Motion, TrackedPath};
 pub use obstacle::Obstacle;
-pub use threat::{LinearMotion, Threat};
+pub use threat::Threat;
 
 /// Why an environment object, a segment or a monitor call was refused. Each variant carries the
 /// offending numbers.

@@ -7,8 +7,9 @@
 //! obstacle radii and danger radii by the satellite's radius.
 
 use super::closest_approach::{lower_bound_m, scan, Approach, Clearance, HermiteSegment};
+use super::motion::Motion;
 use super::obstacle::Obstacle;
-use super::threat::{LinearMotion, Threat};
+use super::threat::Threat;
 use super::EnvironmentError;
 
 /// A per-pair minimum located in the swarm: which satellite, which object (threat or obstacle index, in
@@ -140,14 +141,19 @@ impl ApproachMonitor {
         let threat_states =
             &mut self.threat_pairs[satellite * self.threats..(satellite + 1) * self.threats];
         for (state, threat) in threat_states.iter_mut().zip(threats) {
-            observe_pair(state, segment, threat.line(), threat.danger_radius_m(), 0.0);
+            observe_pair(
+                state,
+                segment,
+                threat.motion(),
+                threat.danger_radius_m(),
+                0.0,
+            );
         }
         let obstacle_states =
             &mut self.obstacle_pairs[satellite * self.obstacles..(satellite + 1) * self.obstacles];
         for (state, obstacle) in obstacle_states.iter_mut().zip(obstacles) {
-            let centre = LinearMotion::fixed(obstacle.center_hill_m());
             let radius_m = obstacle.radius_m();
-            observe_pair(state, segment, &centre, radius_m, radius_m);
+            observe_pair(state, segment, obstacle.motion(), radius_m, radius_m);
         }
         Ok(())
     }
@@ -315,11 +321,11 @@ impl ApproachMonitor {
 fn observe_pair(
     state: &mut PairState,
     segment: &HermiteSegment,
-    line: &LinearMotion,
+    motion: &Motion,
     radius_m: f64,
     offset_m: f64,
 ) {
-    let c = segment.relative_cubic(line);
+    let c = motion.relative_cubic(segment);
     let bound_m = lower_bound_m(&c);
     // Every distance on the segment is ≥ bound_m: the minimum cannot drop strictly below the current
     // one, and the satellite stays outside (inside is a strict `<`).

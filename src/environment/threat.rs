@@ -1,49 +1,23 @@
-//! Threats: kinematic objects moving on a straight line at constant velocity in the Hill LVLH frame,
-//! each with a danger radius the swarm must stay out of.
+//! Threats: kinematic objects with a danger radius the swarm must stay out of, moving either on a
+//! straight line at constant velocity in the Hill LVLH frame or along a real object's tracked path.
 //!
-//! The engine takes the Hill frame as the frame of the threat's straight line, as the threat paper does:
-//! a threat is not propagated under gravity, its Hill position is `p(t) = p_ref + v (t − t_ref)`.
+//! A threat given by a line takes the Hill frame as the frame of its straight line, as the threat paper
+//! does: it is not propagated under gravity, its Hill position is `p(t) = p_ref + v (t − t_ref)`. A
+//! threat from an element set or a state is a real object: the engine places it in the Hill frame at
+//! every segment end from its own orbit ([`TrackedPath`]).
 
 use nalgebra::Vector3;
 
+use super::motion::{LinearMotion, Motion, TrackedPath};
 use super::{check_detection_range, check_finite, check_finite_vector, EnvironmentError};
 
-/// Uniform straight-line motion in the Hill frame: `p(t) = reference_position_hill_m +
-/// velocity_hill_mps · (t − reference_time_s)`.
-///
-/// A plain value (zero velocity allowed: a fixed point); [`Threat`] validates its own line.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LinearMotion {
-    /// Time at which the object is at `reference_position_hill_m` (s).
-    pub reference_time_s: f64,
-    /// Position at `reference_time_s` (Hill frame, m).
-    pub reference_position_hill_m: Vector3<f64>,
-    /// Constant velocity (Hill frame, m/s).
-    pub velocity_hill_mps: Vector3<f64>,
-}
-
-impl LinearMotion {
-    /// A fixed point (zero velocity) at `position_hill_m` (Hill frame, m).
-    pub fn fixed(position_hill_m: Vector3<f64>) -> Self {
-        Self {
-            reference_time_s: 0.0,
-            reference_position_hill_m: position_hill_m,
-            velocity_hill_mps: Vector3::zeros(),
-        }
-    }
-
-    /// Position at time `t_s` (s), Hill frame (m).
-    pub fn position_hill_m(&self, t_s: f64) -> Vector3<f64> {
-        self.reference_position_hill_m + self.velocity_hill_mps * (t_s - self.reference_time_s)
-    }
-}
-
-/// A threat: a named object on a straight line at constant, non-zero velocity in the Hill frame, with a
-/// danger radius (m) around its centre and an optional per-object detection range (m).
+/// A threat: a named object on a straight line at constant, non-zero velocity in the Hill frame or on a
+/// tracked path, with a danger radius (m) around its centre and an optional per-object detection range
+/// (m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Threat {
     name: String,
-    line: LinearMotion,
+    motion: Motion,
     danger_radius_m: f64,
     detection_range_m: Option<f64>,
 }
@@ -79,11 +53,11 @@ impl Threat {
         }
         Ok(Self {
             name: name.into(),
-            line: LinearMotion {
+            motion: Motion::Line(LinearMotion {
                 reference_time_s,
                 reference_position_hill_m: position_hill_m,
                 velocity_hill_mps,
-            },
+            }),
             danger_radius_m,
             detection_range_m: None,
         })
@@ -132,11 +106,30 @@ impl Threat {
         }
         Ok(Self {
             name: name.into(),
-            line: LinearMotion {
+            motion: Motion::Line(LinearMotion {
                 reference_time_s: arrival_time_s,
                 reference_position_hill_m: aim_point_hill_m,
                 velocity_hill_mps,
-            },
+            }),
+            danger_radius_m,
+            detection_range_m: None,
+        })
+    }
+
+    /// A real object as a threat: on the tracked `path` (placed by the engine at every segment end),
+    /// with danger radius `danger_radius_m` (m, ≥ 0). Its velocity may be anything, zero included.
+    ///
+    /// # Errors
+    /// [`EnvironmentError::NonFinite`] / [`EnvironmentError::NegativeRadius`] for a bad danger radius.
+    pub fn tracked(
+        name: impl Into<String>,
+        path: TrackedPath,
+        danger_radius_m: f64,
+    ) -> Result<Self, EnvironmentError> {
+        check_danger_radius(danger_radius_m)?;
+        Ok(Self {
+            name: name.into(),
+            motion: Motion::Tracked(path),
             danger_radius_m,
             detection_range_m: None,
         })
@@ -170,19 +163,24 @@ impl Threat {
         self.detection_range_m
     }
 
-    /// The threat's straight line in the Hill frame.
-    pub fn line(&self) -> &LinearMotion {
-        &self.line
+    /// How the threat moves in the Hill frame.
+    pub fn motion(&self) -> &Motion {
+        &self.motion
+    }
+
+    /// The motion, for the engine to place a tracked threat.
+    pub fn motion_mut(&mut self) -> &mut Motion {
+        &mut self.motion
     }
 
     /// Position at time `t_s` (s), Hill frame (m).
     pub fn position_hill_m(&self, t_s: f64) -> Vector3<f64> {
-        self.line.position_hill_m(t_s)
+        self.motion.position_hill_m(t_s)
     }
 
-    /// Constant velocity, Hill frame (m/s).
-    pub fn velocity_hill_mps(&self) -> Vector3<f64> {
-        self.line.velocity_hill_mps
+    /// Velocity at time `t_s` (s), Hill frame (m/s) (constant on a line).
+    pub fn velocity_hill_mps(&self, t_s: f64) -> Vector3<f64> {
+        self.motion.velocity_hill_mps(t_s)
     }
 }
 

@@ -48,6 +48,14 @@ fn instant_of(datetime: &sgp4::chrono::NaiveDateTime) -> Option<Epoch> {
     .ok()
 }
 
+/// Two propagators are equal when they hold the same element set from the same source (the SGP4
+/// constants follow from the elements).
+impl PartialEq for Sgp4Object {
+    fn eq(&self, other: &Self) -> bool {
+        self.source == other.source && self.elements == other.elements && self.epoch == other.epoch
+    }
+}
+
 impl Sgp4Object {
     /// The propagator of `elements`; `source` names where they come from (`flock.tle line 4`,
     /// `scenario.toml [reference] tle`) in every later error.

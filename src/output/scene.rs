@@ -1,7 +1,8 @@
 //! `scene.json`: the geometry a run's pictures need beside the trajectories — threats (straight lines
 //! in the Hill frame), obstacles (spheres) and the law's target formation — resolved from the scenario
 //! and written once when the run starts, so plots, the report and exports work from the run directory
-//! alone.
+//! alone. A real object (a threat or obstacle from an element set or a state) is marked `tracked`: its
+//! position and velocity are its Hill state at t = 0, not a line it keeps to.
 
 use std::path::Path;
 
@@ -22,8 +23,12 @@ pub struct SceneThreat {
     pub danger_radius_m: f64,
     /// Position at t = 0, Hill LVLH \[m\].
     pub position_at_t0_lvlh_m: [f64; 3],
-    /// Constant velocity, Hill LVLH \[m/s\].
+    /// Constant velocity, Hill LVLH \[m/s\] (a tracked object's: at t = 0).
     pub velocity_lvlh_mps: [f64; 3],
+    /// A real object on a tracked path (its orbit, not a line in the Hill frame); the figures do not
+    /// draw it.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tracked: bool,
 }
 
 impl SceneThreat {
@@ -42,6 +47,10 @@ pub struct SceneObstacle {
     pub center_lvlh_m: [f64; 3],
     /// Radius \[m\].
     pub radius_m: f64,
+    /// Centred on a real object on a tracked path (`center_lvlh_m` is its centre at t = 0); the
+    /// figures do not draw it.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tracked: bool,
 }
 
 /// The content of `scene.json`.
@@ -66,12 +75,13 @@ impl Scene {
                 .iter()
                 .map(|t| {
                     let p = t.position_hill_m(0.0);
-                    let v = t.velocity_hill_mps();
+                    let v = t.velocity_hill_mps(0.0);
                     SceneThreat {
                         name: t.name().to_string(),
                         danger_radius_m: t.danger_radius_m(),
                         position_at_t0_lvlh_m: [p.x, p.y, p.z],
                         velocity_lvlh_mps: [v.x, v.y, v.z],
+                        tracked: t.motion().is_tracked(),
                     }
                 })
                 .collect(),
@@ -79,11 +89,12 @@ impl Scene {
                 .obstacles
                 .iter()
                 .map(|o| {
-                    let c = o.center_hill_m();
+                    let c = o.center_hill_m(0.0);
                     SceneObstacle {
                         name: o.name().to_string(),
                         center_lvlh_m: [c.x, c.y, c.z],
                         radius_m: o.radius_m(),
+                        tracked: o.motion().is_tracked(),
                     }
                 })
                 .collect(),

@@ -567,7 +567,8 @@ impl Default for SensingSection {
 
 /// `[[threats]]`: a kinematic threat on a straight line in the Hill frame, given either by its state at a
 /// time (`position_hill_m`, `velocity_hill_mps`, `at_time_s`) or by an aim (`aim_point_hill_m`,
-/// `direction_hill`, `speed_mps`, `arrival_time_s`: it passes the aim point at that time).
+/// `direction_hill`, `speed_mps`, `arrival_time_s`: it passes the aim point at that time); or a real
+/// object, given by its orbit (`omm`, `tle` or `state_eme2000`, with `propagation`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ThreatSection {
@@ -591,16 +592,46 @@ pub struct ThreatSection {
     pub speed_mps: Option<f64>,
     /// Time it passes the aim point \[s\].
     pub arrival_time_s: Option<f64>,
+    /// A real object: a CCSDS OMM file (KVN, XML or JSON) holding its one element set.
+    pub omm: Option<String>,
+    /// A real object: its TLE, the two lines (or a title line and the two).
+    pub tle: Option<Vec<String>>,
+    /// A real object: its state at the scenario epoch, EME2000, `[x_m, y_m, z_m, vx_mps, vy_mps,
+    /// vz_mps]` (propagated by the truth dynamics).
+    pub state_eme2000: Option<[f64; 6]>,
+    /// How a real object moves during the run: `sgp4` (default for `omm` and `tle`) or `truth`.
+    pub propagation: Option<ObjectPropagation>,
 }
 
-/// `[[obstacles]]`: a sphere static in the Hill frame.
+/// How a real object (a threat or an obstacle from `omm`, `tle` or `state_eme2000`) moves during the run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ObjectPropagation {
+    /// SGP4 from its element set (OMM, TLE only).
+    Sgp4,
+    /// The run's uncontrolled dynamics (the virtual reference's force set and physical properties)
+    /// from its state at the scenario epoch.
+    Truth,
+}
+
+/// `[[obstacles]]`: a sphere static in the Hill frame (`center_hill_m`), or centred on a real object
+/// given by its orbit (`omm`, `tle` or `state_eme2000`, with `propagation`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObstacleSection {
     /// Name (outputs; default `obstacle-K`).
     pub name: Option<String>,
-    /// Centre, Hill frame \[m\].
-    pub center_hill_m: [f64; 3],
+    /// Centre, Hill frame \[m\] (a static obstacle).
+    pub center_hill_m: Option<[f64; 3]>,
+    /// A real object: a CCSDS OMM file (KVN, XML or JSON) holding its one element set.
+    pub omm: Option<String>,
+    /// A real object: its TLE, the two lines (or a title line and the two).
+    pub tle: Option<Vec<String>>,
+    /// A real object: its state at the scenario epoch, EME2000 `[x_m, y_m, z_m, vx_mps, vy_mps,
+    /// vz_mps]` (propagated by the truth dynamics).
+    pub state_eme2000: Option<[f64; 6]>,
+    /// How a real object moves during the run: `sgp4` (default for `omm` and `tle`) or `truth`.
+    pub propagation: Option<ObjectPropagation>,
     /// Radius \[m\].
     pub radius_m: f64,
     /// Range at which satellites detect it, measured to its surface \[m\] (default: their sensing range).

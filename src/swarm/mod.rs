@@ -35,7 +35,8 @@ pub use law::{
 };
 pub use recorder::{EnvironmentSnapshot, NullRecorder, Recorder, Snapshot};
 pub use simulation::{
-    check_law_fits, hill_state_at_start, ControlTiming, Divergence, Origin, RunTotals,
-    SatelliteInit, Sensing, SimError, Simulation, SimulationConfig, StageTimings, TIME_EPSILON,
+    check_law_fits, hill_state_at_start, ControlTiming, Divergence, EnvironmentObject, Origin,
+    RunTotals, SatelliteInit, Sensing, SimError, Simulation, SimulationConfig, StageTimings,
+    TrackedObject, TrackedOrbit, TIME_EPSILON,
 };
 pub use state::SwarmState;

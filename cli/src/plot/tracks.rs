@@ -288,10 +288,12 @@ impl<'a> DrawnObjects<'a> {
             threats: evenly_spaced(scene.threats.len(), MAX_SCENE_OBJECTS)
                 .into_iter()
                 .map(|k| &scene.threats[k])
+                .filter(|t| !t.tracked)
                 .collect(),
             obstacles: evenly_spaced(scene.obstacles.len(), MAX_SCENE_OBJECTS)
                 .into_iter()
                 .map(|k| scene.obstacles[k].clone())
+                .filter(|o| !o.tracked)
                 .collect(),
         }
     }
@@ -307,6 +309,18 @@ pub(crate) fn scene_cuts(scene: &satflock::output::Scene) -> Vec<String> {
     .into_iter()
     .filter(|(_, n)| *n > MAX_SCENE_OBJECTS)
     .map(|(what, n)| format!("{MAX_SCENE_OBJECTS} of {n} {what} drawn (evenly spaced by index)"))
+    .chain(
+        [
+            ("threat", scene.threats.iter().filter(|t| t.tracked).count()),
+            (
+                "obstacle",
+                scene.obstacles.iter().filter(|o| o.tracked).count(),
+            ),
+        ]
+        .into_iter()
+        .filter(|(_, n)| *n > 0)
+        .map(|(what, n)| format!("{n} tracked {what}(s) not drawn (real objects' paths)")),
+    )
     .collect()
 }
 
@@ -950,6 +964,7 @@ mod tests {
             danger_radius_m: 10.0,
             position_at_t0_lvlh_m: [0.0, 0.0, 1.5e6],
             velocity_lvlh_mps: [0.0, 0.0, -500.0],
+            tracked: false,
         };
         // Its sphere meets z in [-110, 110] m from t = (1.5e6 - 110) / 500 to (1.5e6 + 110) / 500.
         let (a, b) = depth.threat_span(&threat, (0.0, 6000.0)).unwrap();

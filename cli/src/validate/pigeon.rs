@@ -309,18 +309,21 @@ pub fn run_job(job: &Job) -> Result<Run, ValidateError> {
     )
     .map_err(failed)?;
     let zone_m = law_value(job.builtin, "target_zone_m")?;
-    let detection: Vec<(Vector3<f64>, f64)> = scenario
-        .file
+    let prepared = scenario.prepare().map_err(failed)?;
+    // The paper's obstacles are static: their centres at t = 0 hold for the whole run.
+    let detection: Vec<(Vector3<f64>, f64)> = prepared
+        .config
         .obstacles
         .iter()
         .map(|o| {
             (
-                Vector3::from(o.center_hill_m),
-                o.radius_m + o.detection_range_m.unwrap_or(scenario.file.sensing.range_m),
+                o.center_hill_m(0.0),
+                o.radius_m()
+                    + o.detection_range_m()
+                        .unwrap_or(prepared.config.sensing.range_m),
             )
         })
         .collect();
-    let prepared = scenario.prepare().map_err(failed)?;
     let duration = prepared.config.duration_s;
     let mut sim = Simulation::new(
         prepared.config,

@@ -403,7 +403,7 @@ pub fn centroid_displacement_m(positions_m: &[Vector3<f64>], nodes_m: &[Vector3<
 
 /// Distance of a point from the threat's (infinite) line \[m\].
 pub fn line_distance_m(threat: &Threat, point_m: &Vector3<f64>) -> f64 {
-    let v = threat.velocity_hill_mps().normalize();
+    let v = threat.velocity_hill_mps(0.0).normalize();
     let r = point_m - threat.position_hill_m(0.0);
     (r - r.dot(&v) * v).norm()
 }
@@ -421,7 +421,7 @@ pub fn node_offset_m(threat: &Threat, nodes_m: &[Vector3<f64>]) -> f64 {
 
 /// Time at which the threat passes closest to a point \[s\].
 pub fn closest_time_s(threat: &Threat, point_m: &Vector3<f64>) -> f64 {
-    let v = threat.velocity_hill_mps();
+    let v = threat.velocity_hill_mps(0.0);
     (point_m - threat.position_hill_m(0.0)).dot(&v) / v.norm_squared()
 }
 
@@ -651,7 +651,7 @@ pub fn escape_bound(run: &CaseRun) -> Result<EscapeBound, ValidateError> {
     if kind != LimitKind::PerAxis {
         return Err(failed(format!("{label}: B2 is stated for a per-axis cap")));
     }
-    let v = threat.velocity_hill_mps().normalize();
+    let v = threat.velocity_hill_mps(0.0).normalize();
     if (v.z.abs() - 1.0).abs() > 1e-12 {
         return Err(failed(format!(
             "{label}: the HCW reach is computed in the orbital plane, for a threat along z"
@@ -944,7 +944,7 @@ pub fn passed_threat(e0: &CaseRun, past_m: f64) -> Result<PassedThreat, Validate
         .threat
         .as_ref()
         .ok_or_else(|| failed("E0 has no threat"))?;
-    let v = threat.velocity_hill_mps().normalize();
+    let v = threat.velocity_hill_mps(0.0).normalize();
     let node = e0.nodes_m[0];
     let past = |t: f64| (threat.position_hill_m(t) - node).dot(&v);
     let errors: Vec<f64> = e0
@@ -978,7 +978,7 @@ pub fn passed_threat(e0: &CaseRun, past_m: f64) -> Result<PassedThreat, Validate
         .iter()
         .find(|r| (r.positions_m[0] - node).norm() > 0.01)
         .map_or(f64::NAN, |r| r.time_s);
-    let speed = threat.velocity_hill_mps().norm();
+    let speed = threat.velocity_hill_mps(0.0).norm();
     Ok(PassedThreat {
         max_error_m: if errors.is_empty() {
             f64::NAN
@@ -1027,7 +1027,7 @@ fn e0_state_at(e0: &CaseRun, time_s: f64) -> Result<(f64, f64), ValidateError> {
         .iter()
         .find(|r| (r.time_s - time_s).abs() < 1e-6)
         .ok_or_else(|| failed(format!("{}: no recording at {time_s} s", e0.job.label)))?;
-    let v = threat.velocity_hill_mps().normalize();
+    let v = threat.velocity_hill_mps(0.0).normalize();
     let p = threat.position_hill_m(time_s);
     let lead = record
         .positions_m
@@ -1854,7 +1854,7 @@ fn notes(data: &PaperData, runs: &[CaseRun]) -> Result<Vec<String>, ValidateErro
     let v_t = e0x
         .threat
         .as_ref()
-        .map_or(f64::NAN, |t| t.velocity_hill_mps().norm());
+        .map_or(f64::NAN, |t| t.velocity_hill_mps(0.0).norm());
     let centroid_at = |run: &CaseRun, t: f64| -> Option<Vector3<f64>> {
         let r = run.records.iter().find(|r| (r.time_s - t).abs() < 1e-6)?;
         Some(

@@ -79,7 +79,7 @@ fn swarm_facts(config: &SimulationConfig, count: usize) -> SwarmFacts {
         threat_velocities_hill_mps: config
             .threats
             .iter()
-            .map(|t| t.velocity_hill_mps())
+            .map(|t| t.velocity_hill_mps(0.0))
             .collect(),
     }
 }

@@ -308,8 +308,24 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
     satellites::check_start(&c, f, &swarm, &satellites, integration.max_distance_m)?;
     let sensing = settings::sensing(&c, &f.sensing, mean_motion_rad_s)?;
     let process_noise_m_s2 = settings::process_noise(&c, &f.dynamics, &dynamics)?;
-    let threats = environment::threats(&c, &f.threats)?;
-    let obstacles = environment::obstacles(&c, &f.obstacles)?;
+    let environment::Environment {
+        threats,
+        obstacles,
+        tracked_objects,
+    } = environment::environment(
+        &c,
+        &f.threats,
+        &f.obstacles,
+        &inputs.threats,
+        &inputs.obstacles,
+        &environment::Placing {
+            dynamics: &dynamics,
+            earth: &earth,
+            reference: &reference,
+            reference_properties: &reference_properties,
+            epoch,
+        },
+    )?;
     if !f.satellites.allow_start_in_obstacle {
         satellites::check_initial_outside_obstacles(&c, &satellites, origin, &obstacles)?;
     }
@@ -331,6 +347,7 @@ pub fn prepare(scenario: &Scenario) -> Result<Prepared, ScenarioError> {
         process_noise_m_s2,
         threats,
         obstacles,
+        tracked_objects,
         max_distance_m: integration.max_distance_m,
         seed: f.seed,
     };

@@ -1,6 +1,7 @@
 //! The orbit files a scenario names (`satellites.initial` of distribution `oem`, `omm` or `tle`;
-//! `[reference] oem`, `omm` or `tle`), read once before anything needs them, and the scenario epoch
-//! they give when `epoch_utc` is absent.
+//! `[reference] oem`, `omm` or `tle`; a threat's or obstacle's `omm` or `tle`), read once before
+//! anything needs them, and the scenario epoch they give when `epoch_utc` is absent (the swarm's and
+//! the reference's only: a real threat's element set is propagated to the scenario epoch).
 
 use crate::orbit::CartesianState;
 use crate::orbit_files::{self, OemObject, Sgp4Object};
@@ -45,6 +46,14 @@ impl OrbitInput {
         &self.key
     }
 
+    /// The one SGP4 element set of an OMM or TLE input (`None` for an OEM input).
+    pub(super) fn sgp4_object(&self) -> Option<&Sgp4Object> {
+        match &self.objects {
+            Objects::Sgp4(o) => o.first(),
+            Objects::Oem(_) => None,
+        }
+    }
+
     /// The files, for messages.
     pub(super) fn files(&self) -> &str {
         &self.files
@@ -81,12 +90,17 @@ impl OrbitInput {
     }
 }
 
-/// The scenario's orbit inputs: of the swarm, and of the reference orbit.
+/// The scenario's orbit inputs: of the swarm, of the reference orbit, and of the real objects among
+/// the threats and obstacles.
 pub(super) struct OrbitInputs {
     /// `satellites.initial` with distribution `oem`, `omm` or `tle`.
     pub(super) swarm: Option<OrbitInput>,
     /// `[reference] oem`, `omm` or `tle`.
     pub(super) reference: Option<OrbitInput>,
+    /// `threats[k].omm` or `tle`, by threat.
+    pub(super) threats: Vec<Option<OrbitInput>>,
+    /// `obstacles[k].omm` or `tle`, by obstacle.
+    pub(super) obstacles: Vec<Option<OrbitInput>>,
 }
 
 /// Reads every orbit file the scenario names (confined to its folder, size-limited, parsed in full).
@@ -200,7 +214,7 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
             std::slice::from_ref(file),
             Format::Omm,
         )?),
-        (None, None, Some(lines)) => Some(inline_tle(c, lines)?),
+        (None, None, Some(lines)) => Some(inline_tle(c, "reference.tle", lines)?),
         (None, None, None) => None,
         _ => {
             return Err(c.keys(
@@ -210,22 +224,62 @@ pub(super) fn read(c: &Checker<'_>, scenario: &Scenario) -> Result<OrbitInputs, 
             ))
         }
     };
-    if let Some(input) = &reference {
-        if input.len() != 1 {
-            return Err(c.bad(
+    let one_object = |input: &OrbitInput, what: &str| {
+        if input.len() == 1 {
+            Ok(())
+        } else {
+            Err(c.bad(
                 input.key(),
                 input.files(),
                 format!("holds {} objects", input.len()),
-                "a file holding the one reference orbit",
-            ));
+                format!("a file holding the one {what}"),
+            ))
         }
+    };
+    if let Some(input) = &reference {
+        one_object(input, "reference orbit")?;
     }
-    Ok(OrbitInputs { swarm, reference })
+    // A real threat or obstacle: `omm` or `tle`, holding its one element set.
+    let object_input = |prefix: String, omm: &Option<String>, tle: &Option<Vec<String>>| {
+        let input = match (omm, tle) {
+            (Some(file), None) => Some(read_files(
+                &format!("{prefix}.omm"),
+                std::slice::from_ref(file),
+                Format::Omm,
+            )?),
+            (None, Some(lines)) => Some(inline_tle(c, &format!("{prefix}.tle"), lines)?),
+            (None, None) => None,
+            (Some(_), Some(_)) => {
+                return Err(c.keys(&prefix, "names both omm and tle", "one element set"))
+            }
+        };
+        if let Some(input) = &input {
+            one_object(input, "object")?;
+        }
+        Ok(input)
+    };
+    let threats = f
+        .threats
+        .iter()
+        .enumerate()
+        .map(|(k, t)| object_input(format!("threats[{k}]"), &t.omm, &t.tle))
+        .collect::<Result<_, _>>()?;
+    let obstacles = f
+        .obstacles
+        .iter()
+        .enumerate()
+        .map(|(k, o)| object_input(format!("obstacles[{k}]"), &o.omm, &o.tle))
+        .collect::<Result<_, _>>()?;
+    Ok(OrbitInputs {
+        swarm,
+        reference,
+        threats,
+        obstacles,
+    })
 }
 
-/// `[reference] tle = ["line 1", "line 2"]` (or a title line first).
-fn inline_tle(c: &Checker<'_>, lines: &[String]) -> Result<OrbitInput, ScenarioError> {
-    let key = "reference.tle";
+/// `tle = ["line 1", "line 2"]` (or a title line first) under `key`.
+fn inline_tle(c: &Checker<'_>, key: &str, lines: &[String]) -> Result<OrbitInput, ScenarioError> {
     let (name, l1, l2) = match lines {
         [l1, l2] => (None, l1, l2),
         [title, l1, l2] => (Some(title.trim()), l1, l2),
@@ -242,7 +296,7 @@ fn inline_tle(c: &Checker<'_>, lines: &[String]) -> Result<OrbitInput, ScenarioE
         .map_err(|e| c.keys(key, e.to_string(), ""))?;
     Ok(OrbitInput {
         key: key.into(),
-        files: "the scenario's [reference] tle".into(),
+        files: format!("the scenario's {key}"),
         objects: Objects::Sgp4(vec![object]),
     })
 }

@@ -385,7 +385,8 @@ pub(super) fn check_initial_outside_obstacles(
     };
     for (k, obstacle) in obstacles.iter().enumerate() {
         for (i, sat) in satellites.iter().enumerate() {
-            let clearance = obstacle.surface_distance_m(&(sat.relative_state.position_m - centre));
+            let clearance =
+                obstacle.surface_distance_m(&(sat.relative_state.position_m - centre), 0.0);
             if clearance < 0.0 {
                 return Err(c.bad(
                     "satellites.allow_start_in_obstacle",

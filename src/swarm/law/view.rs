@@ -172,7 +172,7 @@ impl SwarmFacts {
                 .environment
                 .threats
                 .iter()
-                .map(|t| t.velocity_hill_mps())
+                .map(|t| t.velocity_hill_mps(swarm.shared.time_s))
                 .collect(),
         }
     }
@@ -498,7 +498,7 @@ impl SatelliteView<'_> {
                 visit(&SensedThreat {
                     id,
                     position_hill_m: position,
-                    velocity_hill_mps: threat.velocity_hill_mps(),
+                    velocity_hill_mps: threat.velocity_hill_mps(s.shared.time_s),
                     offset_m,
                     distance_m,
                     danger_radius_m: threat.danger_radius_m(),
@@ -513,7 +513,7 @@ impl SatelliteView<'_> {
         let s = &self.swarm;
         let own = self.own_state().position_m;
         for (id, obstacle) in s.environment.obstacles.iter().enumerate() {
-            let center = obstacle.center_hill_m();
+            let center = obstacle.center_hill_m(s.shared.time_s);
             let offset_m = center - own;
             let distance_m = offset_m.norm();
             let range = obstacle
@@ -556,7 +556,7 @@ impl SatelliteView<'_> {
         Some(SensedThreat {
             id: threat,
             position_hill_m: position,
-            velocity_hill_mps: t.velocity_hill_mps(),
+            velocity_hill_mps: t.velocity_hill_mps(s.shared.time_s),
             offset_m,
             distance_m: offset_m.norm(),
             danger_radius_m: t.danger_radius_m(),

@@ -12,6 +12,7 @@ use crate::orbit::{CartesianState, EarthModel, RelativeStateHill};
 use crate::swarm::actuator::Actuator;
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::law::{CommandKind, Law, LawError};
+use crate::swarm::simulation::tracked::TrackedObject;
 
 /// When the guidance law is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,10 +92,13 @@ pub struct SimulationConfig {
     /// over a control period (sampled) or integration step (continuous); 0 for none. A disturbance: it
     /// moves the satellites but is not counted in the delta-v ledger.
     pub process_noise_m_s2: f64,
-    /// Kinematic threats (straight lines in the Hill frame).
+    /// Kinematic threats (straight lines in the Hill frame, or real objects' tracked paths).
     pub threats: Vec<Threat>,
-    /// Static spherical obstacles in the Hill frame.
+    /// Spherical obstacles, static in the Hill frame or centred on a real object's tracked path.
     pub obstacles: Vec<Obstacle>,
+    /// The real objects among the threats and obstacles, with their orbits (each names a threat or
+    /// obstacle of tracked motion; the engine places it at t = 0 and after every segment).
+    pub tracked_objects: Vec<TrackedObject>,
     /// A satellite farther than this from the LVLH origin stops the run as diverged \[m\].
     pub max_distance_m: f64,
     /// Seed of every random draw of the run.
@@ -189,6 +193,17 @@ impl std::fmt::Display for Divergence {
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum SimError {
+    /// A tracked object could not be placed (SGP4 failed, e.g. the object decayed; its integration
+    /// failed; or it is not of tracked motion).
+    #[error("{object} at t = {time_s} s: {message}")]
+    TrackedObject {
+        /// Which threat or obstacle, by name.
+        object: String,
+        /// Run time \[s\].
+        time_s: f64,
+        /// What went wrong.
+        message: String,
+    },
     /// The swarm is empty.
     #[error("the swarm has no satellite (allowed: 1 or more)")]
     NoSatellites,

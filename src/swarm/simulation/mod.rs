@@ -42,6 +42,7 @@ mod scheduler;
 mod sensing;
 mod snapshots;
 mod timeline;
+mod tracked;
 
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
@@ -52,6 +53,7 @@ pub use config::{
     check_law_fits, ControlTiming, Divergence, Origin, RunTotals, SatelliteInit, Sensing, SimError,
     SimulationConfig, TIME_EPSILON,
 };
+pub use tracked::{EnvironmentObject, TrackedObject, TrackedOrbit};
 
 use crate::conjunction::ConjunctionMonitor;
 use crate::environment::ApproachMonitor;
@@ -148,6 +150,8 @@ pub struct Simulation {
     monitors: Monitors,
     integration: Integration,
     reference_stepper: Stepper,
+    /// The real objects' inertial states (truth-propagated ones) and their stepper.
+    tracked: tracked::TrackedStates,
     /// Ticks between re-sorts of the storage order (0: never; sampled control only).
     resort_period_ticks: u64,
     /// A flag another thread (a signal handler) may set to stop the run between segments.
@@ -268,6 +272,7 @@ impl Simulation {
         check_law_fits(&law, &config, min_mass)?;
         let mut sim = Self {
             reference_stepper: Stepper::new(config.integrator, 6, config.tolerances, config.step_s),
+            tracked: tracked::TrackedStates::new(&config),
             integration,
             state,
             clock: Clock::start(),
@@ -325,7 +330,8 @@ impl Simulation {
             reference_model,
             config,
         };
-        sim.refresh_truth();
+        sim.refresh_truth(0.0);
+        sim.place_tracked_objects(0.0, None)?;
         sim.apply_due_events()?;
         sim.initialise_law()?;
         sim.apply_condition_events()?;
@@ -536,19 +542,16 @@ impl Simulation {
         }
     }
 
-    /// Recomputes the truth relative states at the current time.
-    fn refresh_truth(&mut self) {
+    /// Recomputes the truth relative states of the swarm state at `t_s` (the state's time: a segment's
+    /// end before the clock moves to it).
+    fn refresh_truth(&mut self, t_s: f64) {
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,
             &self.timeline.threat_warnings,
             self.reference_model,
         );
-        plant.truth_relative(
-            self.clock.time_s,
-            self.state.as_slice(),
-            &mut self.satellites.truth,
-        );
+        plant.truth_relative(t_s, self.state.as_slice(), &mut self.satellites.truth);
     }
 
     /// Calls `f` with the running law and a whole-swarm view of the truth relative states now (no

@@ -268,7 +268,8 @@ impl Simulation {
             self.timings.propagation_s += (now - clock).as_secs_f64();
             now
         };
-        self.refresh_truth();
+        self.refresh_truth(t1);
+        self.place_tracked_objects(t1, Some(t0))?;
         self.timings.sensing_s += clock.elapsed().as_secs_f64();
         Ok(())
     }
@@ -368,7 +369,7 @@ impl Simulation {
             // The velocity state is the command from the start of the segment, so the monitors'
             // Hermite path over the segment starts with the velocity actually followed.
             self.set_velocities_to_commands();
-            self.refresh_truth();
+            self.refresh_truth(t0);
         }
         Ok(())
     }
@@ -477,7 +478,7 @@ impl Simulation {
         if matches!(self.integration, Integration::Sampled(_)) {
             return;
         }
-        self.refresh_truth();
+        self.refresh_truth(t1);
         let plant = Plant::new(
             &self.config,
             &self.satellites.fleet,

@@ -175,6 +175,28 @@ impl<'a> Plant<'a> {
         LvlhFrame::from_reference_with_acceleration(&origin, &accel)
     }
 
+    /// The Hill state, relative to the LVLH origin, of an object at the EME2000 state `state` at `t_s`,
+    /// placed as [`Plant::truth_relative`] places the satellites: by the origin's LVLH frame for the
+    /// inertial models; for the linear and kinematic models (whose states are Hill states relative to
+    /// the virtual reference) by the virtual reference's frame, less a member origin's state.
+    pub fn hill_of(&self, t_s: f64, data: &[f64], state: &CartesianState) -> RelativeStateHill {
+        if self.config.dynamics.is_inertial() {
+            return self.frame(t_s, data).to_hill(state);
+        }
+        let (p, v) = reference_of(data);
+        let hill = LvlhFrame::from_reference(&CartesianState::new(p, v)).to_hill(state);
+        match self.config.origin {
+            Origin::VirtualReference => hill,
+            Origin::Member(k) => {
+                let (op, ov) = satellite_of(data, self.n(), self.fleet.order.index_of(k));
+                RelativeStateHill {
+                    position_m: hill.position_m - op,
+                    velocity_mps: hill.velocity_mps - ov,
+                }
+            }
+        }
+    }
+
     /// Fills `relative` with every satellite's truth state relative to the origin (Hill) at `t_s`.
     /// Returns the LVLH frame used (inertial models only).
     pub fn truth_relative(
