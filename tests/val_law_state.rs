@@ -1197,3 +1197,52 @@ fn regress_a_law_switched_in_after_none_senses_its_neighbours() {
     assert!(total >= 3 * 2 * 20, "{total} neighbour visits");
     assert_eq!(total % 6, 0, "{total}");
 }
+
+/// Commands `accel` (Hill, m/s²) to every satellite.
+struct Pushes(Vector3<f64>);
+
+impl GuidanceLaw for Pushes {
+    type State = ();
+    type Parameters = ();
+
+    fn name(&self) -> &'static str {
+        "pushes"
+    }
+
+    fn command(&self, _: &SatelliteView<'_>, _: &(), _: &LawContext) -> Vector3<f64> {
+        self.0
+    }
+
+    fn set_parameters(&mut self, _p: &()) -> Result<(), LawError> {
+        Ok(())
+    }
+}
+
+#[test]
+fn regress_a_switch_to_none_holds_zero_like_an_evaluated_zero_command() {
+    // `none` declares it commands nothing, so the engine does not evaluate it and holds zero. After
+    // a law that pushed, the held commands must be zeroed: the run ends bit for bit where the same
+    // switch to a law that is evaluated and returns zero (`Pushes(0)`, which declares nothing) ends.
+    let initial = [
+        state([0.0; 3], [0.0; 3]),
+        state([0.0, 20.0, 0.0], [0.01, 0.0, 0.0]),
+        state([5.0, -20.0, 3.0], [0.0; 3]),
+    ];
+    let run = |after: Law| {
+        let cfg = config(
+            DynamicsModel::Hcw(Hcw::new(n())),
+            ControlTiming::Sampled { period_s: 1.0 },
+            30.0,
+        );
+        let events = vec![Event::at(0, 10.0, EventAction::SwitchLaw(after))];
+        let push = Law::new(Pushes(Vector3::new(1e-4, -2e-4, 5e-5)));
+        let mut sim = Simulation::new(cfg, &satellites(&initial), push, events).unwrap();
+        sim.run(&mut NullRecorder, &mut |_| {}).unwrap();
+        sim.states_hill()
+    };
+    let skipped = run(Law::new(FreeDrift));
+    let evaluated = run(Law::new(Pushes(Vector3::zeros())));
+    assert_eq!(skipped, evaluated);
+    // And the push did act before the switch: the satellite at rest moved.
+    assert!(skipped[0].position_m.norm() > 1e-3, "{:?}", skipped[0]);
+}

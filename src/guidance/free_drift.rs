@@ -38,4 +38,8 @@ impl GuidanceLaw for FreeDrift {
     fn senses_neighbours(&self) -> bool {
         false
     }
+
+    fn commands_nothing(&self) -> bool {
+        true
+    }
 }

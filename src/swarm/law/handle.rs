@@ -127,6 +127,8 @@ erased_law! {
         pub fn command_kind() -> CommandKind;
         /// See [`GuidanceLaw::senses_neighbours`].
         pub fn senses_neighbours() -> bool;
+        /// See [`GuidanceLaw::commands_nothing`].
+        pub fn commands_nothing() -> bool;
         /// See [`GuidanceLaw::check_swarm`].
         pub fn check_swarm(swarm: &SwarmFacts) -> Result<(), LawError>;
         /// See [`GuidanceLaw::fastest_rate_per_s`] \[1/s\].
@@ -249,6 +251,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn senses_neighbours(&self) -> bool {
         self.law.senses_neighbours()
+    }
+
+    fn commands_nothing(&self) -> bool {
+        self.law.commands_nothing()
     }
 
     fn fastest_rate_per_s(&self, mass_kg: f64) -> Option<f64> {

@@ -196,6 +196,13 @@ pub trait GuidanceLaw: Send + Sync + 'static {
         true
     }
 
+    /// Whether every command of the law is zero whatever it senses (a law that only drifts); default
+    /// `false`. A stateless law that returns `true` is not evaluated in sampled control: the engine
+    /// builds no view for it and holds a zero command (with process noise the tick runs as usual).
+    fn commands_nothing(&self) -> bool {
+        false
+    }
+
     /// Checks the law against the swarm it will steer (sensing range, satellite count, threats) without
     /// running it. The scenario layer calls it for the law at t = 0 and for every law an event sets, so a
     /// mismatch is refused when the scenario loads; a law calls it from its own

@@ -122,6 +122,9 @@ pub(in crate::swarm::simulation) struct Satellites {
     /// ∫‖a_drag‖dt of each satellite with drag attitudes \[m/s\] (left-point sum at the control ticks:
     /// not propellant, kept apart from the thrust ledger).
     pub drag_delta_v_mps: Vec<f64>,
+    /// Whether the applied, commanded and held commands are all zero (so a law that commands nothing
+    /// need not write them): not a column, and unchanged by a permutation.
+    pub commands_zero: bool,
 }
 
 impl Satellites {
@@ -137,7 +140,20 @@ impl Satellites {
             drag_changed_s: vec![f64::NEG_INFINITY; n],
             drag_switches: vec![0; n],
             drag_delta_v_mps: vec![0.0; n],
+            commands_zero: true,
         }
+    }
+
+    /// Sets every applied, commanded and held command to zero.
+    pub fn zero_commands(&mut self) {
+        for column in [
+            &mut self.applied_hill,
+            &mut self.commanded_hill,
+            &mut self.held_control,
+        ] {
+            column.fill(Vector3::zeros());
+        }
+        self.commands_zero = true;
     }
 
     /// Moves every column to the storage order in which new index `k` holds old index `moves[k]`.
@@ -162,6 +178,7 @@ impl Satellites {
             drag_changed_s,
             drag_switches,
             drag_delta_v_mps,
+            commands_zero: _,
         } = self;
         permute(masses_kg, moves, visited);
         permute(surfaces, moves, visited);

@@ -303,6 +303,22 @@ impl Simulation {
         if !(sampled || stateful || kinematic) {
             return Ok(());
         }
+        if sampled
+            && !(stateful || kinematic)
+            && self.config.process_noise_m_s2 == 0.0
+            && self.law.commands_nothing()
+        {
+            // Nothing to evaluate: the held commands are zero (written once, after a law that
+            // commanded something).
+            if !self.satellites.commands_zero {
+                self.satellites.zero_commands();
+            }
+            if !self.drag_commands.is_empty() {
+                self.account_drag(t0);
+            }
+            return Ok(());
+        }
+        self.satellites.commands_zero = false;
         let clock = Instant::now();
         let view = plant.view(
             t0,
