@@ -274,6 +274,8 @@ impl Simulation {
         // storage order.
         let order = &self.satellites.fleet.order;
         let first = (0..self.satellites.truth.len())
+            .into_par_iter()
+            .with_min_len(CHUNK)
             .filter_map(|i| diverged(i).map(|reason| (order.id_at(i), reason)))
             .min_by_key(|(id, _)| *id);
         match first {
