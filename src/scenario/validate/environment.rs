@@ -146,6 +146,13 @@ pub(super) fn environment(
     place: &Placing<'_>,
 ) -> Result<Environment, ScenarioError> {
     let mut tracked_objects = Vec::new();
+    // A real object's path at t = 0, its orbit kept as the object's tracked orbit.
+    let mut track = |object: EnvironmentObject, keys: OrbitKeys<'_>| {
+        Ok::<_, ScenarioError>(real_object(c, &keys, place)?.map(|(path, orbit)| {
+            tracked_objects.push(TrackedObject { object, orbit });
+            path
+        }))
+    };
     let threats = threat_sections
         .iter()
         .enumerate()
@@ -156,14 +163,7 @@ pub(super) fn environment(
                 state_eme2000: s.state_eme2000,
                 propagation: s.propagation,
             };
-            let real = real_object(c, &keys, place)?;
-            if let Some((_, orbit)) = &real {
-                tracked_objects.push(TrackedObject {
-                    object: EnvironmentObject::Threat(k),
-                    orbit: orbit.clone(),
-                });
-            }
-            threat(c, k, s, real.map(|(path, _)| path))
+            threat(c, k, s, track(EnvironmentObject::Threat(k), keys)?)
         })
         .collect::<Result<_, _>>()?;
     let obstacles = obstacle_sections
@@ -176,14 +176,7 @@ pub(super) fn environment(
                 state_eme2000: s.state_eme2000,
                 propagation: s.propagation,
             };
-            let real = real_object(c, &keys, place)?;
-            if let Some((_, orbit)) = &real {
-                tracked_objects.push(TrackedObject {
-                    object: EnvironmentObject::Obstacle(k),
-                    orbit: orbit.clone(),
-                });
-            }
-            obstacle(c, k, s, real.map(|(path, _)| path))
+            obstacle(c, k, s, track(EnvironmentObject::Obstacle(k), keys)?)
         })
         .collect::<Result<_, _>>()?;
     Ok(Environment {

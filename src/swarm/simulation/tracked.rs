@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 use crate::dynamics::PhysicalProperties;
 use crate::environment::TrackedPath;
 use crate::integrate::Stepper;
-use crate::orbit::CartesianState;
+use crate::orbit::{CartesianState, RelativeStateHill};
 use crate::orbit_files::Sgp4Object;
 use crate::time::Epoch;
 
@@ -62,6 +62,8 @@ pub(super) struct TrackedStates {
     /// EME2000 state now of every tracked object (in `config.tracked_objects` order) \[m, m/s\].
     states_eme2000: Vec<CartesianState>,
     stepper: Stepper,
+    /// The placements of the segment end being placed (a buffer kept across segments).
+    placements: Vec<RelativeStateHill>,
 }
 
 impl TrackedStates {
@@ -76,6 +78,7 @@ impl TrackedStates {
                 })
                 .collect(),
             stepper: Stepper::new(config.integrator, 6, config.tolerances, config.step_s),
+            placements: Vec::with_capacity(config.tracked_objects.len()),
         }
     }
 }
@@ -106,7 +109,7 @@ impl Simulation {
             self.reference_model,
         );
         let data = self.state.as_slice();
-        let mut placements = Vec::with_capacity(self.config.tracked_objects.len());
+        self.tracked.placements.clear();
         for (k, tracked) in self.config.tracked_objects.iter().enumerate() {
             let fail = |message: String| SimError::TrackedObject {
                 object: name_of(&self.config, tracked.object),
@@ -151,9 +154,10 @@ impl Simulation {
                     *state
                 }
             };
-            placements.push(plant.hill_of(t1_s, data, &inertial));
+            let hill = plant.hill_of(t1_s, data, &inertial);
+            self.tracked.placements.push(hill);
         }
-        for (k, hill) in placements.into_iter().enumerate() {
+        for (k, hill) in self.tracked.placements.iter().enumerate() {
             let object = self.config.tracked_objects[k].object;
             let name = name_of(&self.config, object);
             let motion = match object {
