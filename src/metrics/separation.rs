@@ -6,20 +6,27 @@
 //! engine can reuse the grid it already built for its collision-avoidance terms.
 //!
 //! **Tracking a moving swarm exactly.** After a full search at time t_k the tracker keeps every
-//! satellite's position p_i(t_k) and nearest-neighbour distance d_i(t_k). At a later snapshot, with
-//! Δ_i = |p_i(t) − p_i(t_k)| and Δ_max the largest Δ, the triangle inequality gives for every pair
-//! d_ij(t) ≥ d_ij(t_k) − Δ_i − Δ_j ≥ d_i(t_k) − Δ_i − Δ_max =: L_i. The previous closest pair's distance
-//! now, U, is an upper bound of the minimum. A pair at the minimum has both ends with L ≤ U, and a
-//! colliding pair (d_ij < a_i + a_j ≤ a_i + a_max) both ends with L_i < a_i + a_max; so the exact minimum,
-//! its lexicographically smallest pair and the collision count are those of the *candidates* (the
-//! satellites meeting either test), searched among themselves. L is lowered by a margin of 1e-9 times
-//! the largest coordinate magnitude, a million times the rounding of the distances involved, so floating
+//! satellite's position p_i(t_k) and nearest-neighbour distance d_i(t_k). At a later snapshot it fits the
+//! affine motion q ≈ M p + b that best carries the anchors onto the positions now (least squares,
+//! `motion_fit`), with e_i the residual of satellite i, e_max the largest and σ a lower bound of M's
+//! smallest singular value. Then for every pair d_ij(t) ≥ σ d_ij(t_k) − e_i − e_j ≥ σ d_i(t_k) − e_i −
+//! e_max =: L_i (the plain bound with displacements is the case M = I; a swarm drifting together has
+//! residuals far below its displacements, so the bound stays tight for many more steps). The previous
+//! closest pair's distance now, U, is an upper bound of the minimum. A pair at the minimum has both ends
+//! with L ≤ U, and a colliding pair (d_ij < a_i + a_j ≤ a_i + a_max) both ends with L_i < a_i + a_max; so
+//! the exact minimum, its lexicographically smallest pair and the collision count are those of the
+//! *candidates* (the satellites meeting either test), searched among themselves. L is lowered by a margin
+//! of 1e-9 times the largest coordinate magnitude (times 1 + ‖M‖), a million times the rounding of the
+//! distances and residuals involved, so floating
 //! point never drops a candidate. When the candidates exceed a quarter of the swarm, or the satellite set
 //! gained a member, the tracker does a full search and takes new anchors. Satellites may leave the set
 //! between snapshots (a removed satellite): the bounds of the others stay valid.
 
 use rayon::prelude::*;
 
+use nalgebra::Vector3;
+
+use super::motion_fit::{AffineMotion, FitSums};
 use super::{check_radii, MetricsError};
 use crate::grid::NeighbourGrid;
 
@@ -140,8 +147,11 @@ pub struct SeparationTracker {
     closest: Option<(usize, usize)>,
     grid: NeighbourGrid,
     nearest_m: Vec<f64>,
-    /// Per satellite of the current snapshot: displacement since its anchor (m).
+    /// Per satellite of the current snapshot: its distance from where the fitted motion of the swarm
+    /// since the anchors puts it (m).
     displacement_m: Vec<f64>,
+    /// The block sums of that fit ([`AffineMotion::fit`]).
+    fit_blocks: Vec<FitSums>,
     /// Candidates of a narrow search: their index in the snapshot, positions and radii.
     candidates: Vec<usize>,
     candidate_x: Vec<f64>,
@@ -316,29 +326,39 @@ impl SeparationTracker {
         let (dx, dy, dz) = (x_m[ib] - x_m[ia], y_m[ib] - y_m[ia], z_m[ib] - z_m[ia]);
         let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
         let n = ids.len();
-        self.displacement_m.resize(n, 0.0);
         let anchors = &self.anchors;
-        // Displacements since the anchors, their maximum and the largest coordinate magnitude, in
-        // parallel (maxima: the same values in any order). `None` when a satellite has no anchor or a
-        // position is not finite (the full search then reports it).
+        // (Every satellite has an anchor once the fit succeeds.)
+        let anchored = |k: usize| {
+            anchors
+                .get(ids[k])
+                .filter(|a| !a[3].is_nan())
+                .map(|a| Vector3::new(a[0], a[1], a[2]))
+        };
+        let anchor_of = |k: usize| {
+            let a = anchors[ids[k]];
+            Vector3::new(a[0], a[1], a[2])
+        };
+        let now_of = |k: usize| Vector3::new(x_m[k], y_m[k], z_m[k]);
+        let Some(motion) = AffineMotion::fit(n, anchored, now_of, &mut self.fit_blocks) else {
+            return Ok(None);
+        };
+        self.displacement_m.resize(n, 0.0);
+        // Residuals from the fitted motion, their maximum and the largest coordinate magnitude, in
+        // parallel (maxima: the same values in any order). `None` when a residual is not finite (the
+        // full search then reports the position).
         let Some((largest_m, scale_m)) = self
             .displacement_m
             .par_iter_mut()
             .enumerate()
             .with_min_len(PARALLEL_MIN_LEN)
             .map(|(k, moved)| {
-                let anchor = anchors.get(ids[k]).filter(|a| !a[3].is_nan())?;
-                let p = [x_m[k], y_m[k], z_m[k]];
-                let (ex, ey, ez) = (p[0] - anchor[0], p[1] - anchor[1], p[2] - anchor[2]);
-                let moved_m = (ex * ex + ey * ey + ez * ez).sqrt();
+                let (anchor, now) = (anchor_of(k), now_of(k));
+                let moved_m = motion.residual_m(&anchor, &now);
                 if !moved_m.is_finite() {
                     return None;
                 }
                 *moved = moved_m;
-                let scale_m = [p[0], p[1], p[2], anchor[0], anchor[1], anchor[2]]
-                    .iter()
-                    .fold(0.0_f64, |scale, v| scale.max(v.abs()));
-                Some((moved_m, scale_m))
+                Some((moved_m, anchor.amax().max(now.amax())))
             })
             .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))
         else {
@@ -347,7 +367,8 @@ impl SeparationTracker {
         if !(upper_m.is_finite() && scale_m.is_finite()) {
             return Ok(None);
         }
-        let margin_m = 1e-9 * scale_m;
+        let margin_m = 1e-9 * scale_m * (1.0 + motion.norm);
+        let contraction = motion.contraction;
         let displacement_m = &self.displacement_m;
         self.candidates.clear();
         self.candidates.par_extend(
@@ -355,7 +376,8 @@ impl SeparationTracker {
                 .into_par_iter()
                 .with_min_len(PARALLEL_MIN_LEN)
                 .filter(|&k| {
-                    let lower_m = anchors[ids[k]][3] - displacement_m[k] - largest_m - margin_m;
+                    let lower_m =
+                        contraction * anchors[ids[k]][3] - displacement_m[k] - largest_m - margin_m;
                     lower_m <= upper_m || lower_m < radii_m[k] + a_max
                 }),
         );
@@ -472,6 +494,10 @@ mod tests {
         /// An integer lattice (every ninth satellite 1 m closer to its neighbour) translated by 1/8 m a
         /// step: exact distance ties everywhere.
         Lattice,
+        /// Uniform in a box, the whole swarm turning about z by 0.01 rad a step (satellites at the edge
+        /// move 1.4 m a step) and drifting, each satellite also jittering by up to 1 mm: a swarm that
+        /// moves together, nearly affinely.
+        Turning,
     }
 
     /// Runs `steps` snapshots of a moving swarm through one tracker and checks every answer against
@@ -505,7 +531,7 @@ mod tests {
         let mut unit = || -> f64 { rng.random_range(-1.0..1.0) };
         for i in 0..n {
             let (p, v) = match motion {
-                Motion::Random => (
+                Motion::Random | Motion::Turning => (
                     [100.0 * unit(), 100.0 * unit(), 100.0 * unit()],
                     [0.3 * unit(), 0.3 * unit(), 0.3 * unit()],
                 ),
@@ -598,6 +624,16 @@ mod tests {
                 narrow_after_renumbering += 1;
             }
             for i in 0..n {
+                if let Motion::Turning = motion {
+                    let (sin, cos) = 0.01_f64.sin_cos();
+                    let [x, y, z] = position[i];
+                    position[i] = [
+                        cos * x - sin * y + 0.3 + 1e-3 * rng.random_range(-1.0..1.0),
+                        sin * x + cos * y + 1e-3 * rng.random_range(-1.0..1.0),
+                        z + 1e-3 * rng.random_range(-1.0..1.0),
+                    ];
+                    continue;
+                }
                 let jitter = match motion {
                     Motion::Clustered => 0.02,
                     _ => 0.0,
@@ -650,6 +686,16 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A swarm that turns and drifts as a whole (its edge moving 1.4 m a step, far more than the
+    /// nearest-neighbour distances of ~10 m, so the plain displacement bound would need a full search
+    /// every few steps) is answered by the fitted motion's bound with one full search in 60 steps, and
+    /// every answer equals the brute force.
+    #[test]
+    fn a_swarm_moving_together_needs_one_full_search() {
+        let (full, narrow) = check_motion(Motion::Turning, 2000, 60, false, 3);
+        assert_eq!((full, narrow), (1, 59));
     }
 
     /// Many candidates (more than the direct-comparison limit) go through the candidates' own grid.

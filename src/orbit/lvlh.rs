@@ -87,6 +87,7 @@ impl LvlhFrame {
 
     /// Relative state of `satellite` (ECI) in this frame: position `rho = R (r_s - r_o)` \[m\] and the
     /// velocity seen in the rotating frame `rho_dot = R ((v_s - v_o) - omega x (r_s - r_o))` \[m/s\].
+    #[inline]
     pub fn to_hill(&self, satellite: &CartesianState) -> RelativeStateHill {
         let dr = satellite.position_m - self.origin.position_m;
         let dv = satellite.velocity_mps - self.origin.velocity_mps;

@@ -3,6 +3,8 @@
 //! satellites near in space are near in memory and the per-tick passes (grid build, each satellite's
 //! own data, its neighbours' states and broadcasts, its command) read memory nearly in sequence instead
 //! of at random on a large swarm. Every per-satellite array moves with it, the law's states included.
+//! Not while the running law senses no neighbours (`GuidanceLaw::senses_neighbours`): its passes are
+//! per satellite, in any order, and nothing is gained for the cost of the re-sort.
 //!
 //! Nothing a run computes depends on the storage order: each satellite's computations read the same
 //! inputs wherever it is stored, neighbours are visited in (cell, id) order whatever the storage order
@@ -19,9 +21,11 @@ pub(super) const RESORT_PERIOD_TICKS: u64 = 32;
 impl Simulation {
     /// Re-sorts the storage order by sensing-grid cell of the truth positions now (cell, then id) if
     /// this tick is due (sampled control only; continuous control keeps the id order), moving every
-    /// per-satellite array with it.
+    /// per-satellite array with it. A running law that senses no neighbours reads nothing by cell, so
+    /// the order is left as it is.
     pub(super) fn resort_if_due(&mut self, tick: u64) {
         if !matches!(self.config.control, ControlTiming::Sampled { .. })
+            || !self.sensed.neighbours
             || self.resort_period_ticks == 0
             || !tick.is_multiple_of(self.resort_period_ticks)
         {
@@ -133,6 +137,16 @@ mod tests {
             sim.law_states::<crate::guidance::pigeon::Pigeon>(),
         );
         (capture, summary, shuffled)
+    }
+
+    /// A law that senses no neighbours is never re-sorted, even when due at every tick (free drift in
+    /// sampled control).
+    #[test]
+    fn a_law_without_neighbours_keeps_the_storage_order() {
+        let text = include_str!("../../../scenarios/free-drift.toml").to_string()
+            + "[control]\nmode = \"sampled\"\nperiod_s = 1.0\n";
+        let (_, _, shuffled) = run(&text, 20.0, 1);
+        assert!(!shuffled);
     }
 
     /// The storage order changes no bit of a run: re-sorted at every tick or never, every law gives the
