@@ -51,6 +51,7 @@ pub mod shaping;
 pub mod state_machine;
 
 use crate::invalid::Invalid;
+use neighbourhood::NodePairs;
 use std::sync::Arc;
 
 use nalgebra::Vector3;
@@ -62,7 +63,6 @@ use crate::swarm::{
 };
 
 pub use desired::{DesiredVelocity, FieldSet, Tables, ThreatUse};
-pub use neighbourhood::NodePairs;
 pub use parameters::{EquilibriumShapingParameters, Escape, Feedforward, Formation, Strategy};
 pub use results::{
     EquilibriumShapingResults, EsAvoidResults, EsCoefficient, EsPairAttraction, EsSatelliteResults,

@@ -61,7 +61,8 @@ pub fn node_grid(nodes_m: &[Vector3<f64>], radius_m: f64) -> NeighbourGrid {
 /// The closest node pair (first, second, distance \[m\]), first < second, among the pairs at most
 /// `threshold_m` \[m\] apart (`None` when there is none): the smallest distance, ties to the smallest
 /// first then second index, as a loop over every pair in lexicographic order would pick. The distance
-/// is computed as `‖ξ_i − ξ_j‖` is (the grid's inclusion rule). O(N) plus the pairs found.
+/// is computed as `‖ξ_i − ξ_j‖` is (the grid's inclusion rule). O(N log N) (the grid's build) plus the
+/// pairs found.
 pub fn closest_pair_within(
     nodes_m: &[Vector3<f64>],
     threshold_m: f64,

@@ -103,7 +103,7 @@ pub fn closed_form_avoid_per_s(delta_m: f64, gains: &GatherAvoidDock) -> f64 {
 
 /// Refuses node sets with fewer than two nodes, non-finite coordinates or coincident nodes (closer than
 /// [`COINCIDENT_FRACTION`] of the formation's extent; the closest such pair is named, ties to the first
-/// in lexicographic order). O(N) through a neighbour grid (plus the coincident pairs found).
+/// in lexicographic order). O(N log N) through a neighbour grid (plus the coincident pairs found).
 pub fn check_nodes(nodes_m: &[Vector3<f64>]) -> Result<(), ShapingError> {
     if nodes_m.len() < 2 {
         return Err(ShapingError::TooFewNodes {
