@@ -19,7 +19,10 @@
 //! * the `away` escape on E0 against the closed-form threat track: the threat passes the cluster, while
 //!   under `parallel` a satellite rides about √(K ln(A/V)) ahead of it;
 //! * the linearised Eq. 1 field of the E0 rhombus (central differences): exactly 7 zero eigenvalues
-//!   (6 rigid-body modes and the out-of-plane fold, each checked in the null space), 5 negative.
+//!   (6 rigid-body modes and the out-of-plane fold, each checked in the null space), 5 negative;
+//! * the set-up at 10⁶ nodes: the Eq. 1 rate bound over the pairs within the cutoff against the same
+//!   Gershgorin sums over every pair (within the documented tail bound), and the record-time formation
+//!   error against a brute-force sum over the node pairs within the sensing range.
 //!
 //! All in the Hill frame (x radial out, y along-track, z orbit normal), SI units.
 
@@ -35,8 +38,8 @@ use satflock::guidance::equilibrium_shaping::state_machine::{
     next_state, EsState, MachineSettings, Mode, ModeEvent, Observation,
 };
 use satflock::guidance::equilibrium_shaping::{
-    desired, EquilibriumShaping, EquilibriumShapingParameters, Escape, Feedforward, FieldSet,
-    Formation, Strategy,
+    desired, field, neighbourhood, EquilibriumShaping, EquilibriumShapingParameters, Escape,
+    Feedforward, FieldSet, Formation, Strategy,
 };
 use satflock::guidance::LawConfig;
 use satflock::integrate::{IntegratorMethod, Tolerances};
@@ -1870,4 +1873,153 @@ fn val_e0_rhombus_linearised_field_has_seven_zero_modes() {
         smallest > 1e-3 * singular.max(),
         "modes not independent: {singular}"
     );
+}
+
+// ------------------------------------------------------------------------------------------------------
+// The set-up at 10⁶: the cutoff's rate bound and the record-time pairs against every pair
+// ------------------------------------------------------------------------------------------------------
+
+/// `count` nodes of the benchmark's triangular lattice, `spacing_m` apart (rows of ⌈√count⌉).
+fn triangular_lattice(count: usize, spacing_m: f64) -> Vec<Vector3<f64>> {
+    let side = (count as f64).sqrt().ceil() as usize;
+    (0..count)
+        .map(|k| {
+            let (row, col) = ((k / side) as f64, (k % side) as f64);
+            Vector3::new(
+                spacing_m * (col + 0.5 * (row % 2.0)),
+                spacing_m * 3f64.sqrt() / 2.0 * row,
+                0.0,
+            )
+        })
+        .collect()
+}
+
+/// `count` nodes uniform in a cube of side `side_m` \[m\] (xorshift, fixed seed).
+fn random_cloud(count: usize, side_m: f64, seed: u64) -> Vec<Vector3<f64>> {
+    let mut state = seed;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..count)
+        .map(|_| Vector3::new(uniform(), uniform(), uniform()) * side_m)
+        .collect()
+}
+
+/// Gershgorin's bound of the Eq. 1 field's stacked Jacobian at the nodes over every node pair (the
+/// exact O(N²) sums, from the term's own Jacobian): max over rows of |Σ_j J_ij| + Σ_j |−J_ij|.
+fn every_pair_gershgorin_per_s(nodes: &[Vector3<f64>], b_per_s: f64, c_m2: f64) -> f64 {
+    let mut largest: f64 = 0.0;
+    for i in 0..nodes.len() {
+        let mut own = Matrix3::zeros();
+        let mut off_diagonal = Vector3::zeros();
+        for j in (0..nodes.len()).filter(|j| *j != i) {
+            let y = nodes[i] - nodes[j];
+            let a = pair_attraction_per_s(y.norm(), b_per_s, c_m2);
+            let jac = field::pair_attraction_repulsion(&y, a, b_per_s, c_m2).d_own_per_s;
+            own += jac;
+            off_diagonal += jac.abs().column_sum();
+        }
+        largest = largest.max((own.abs().column_sum() + off_diagonal).max());
+    }
+    largest
+}
+
+#[test]
+fn val_pair_rate_bound_over_the_cutoff_matches_every_pair() {
+    // Above 128 nodes the law bounds the Eq. 1 field's rate by Gershgorin's theorem over the pairs
+    // within the cutoff r_c, plus the analytic tail bound T ≤ 1e-16 b of every pair beyond. Reference:
+    // the same row sums over every pair (O(N²)). The computed bound must lie in
+    // [exact, exact + T], up to the rounding of sums taken in another order (≤ 60 terms of a row at
+    // 1.1e-16 each: 1e-14 relative; 1e-12 is asserted). Geometries: the paper's rhombus and hexagon,
+    // a random cloud and the benchmark's 6 m triangular lattice at ≤ 128 nodes (where the cutoff drops
+    // nothing or little), and at 2000 nodes (extent several r_c: most pairs are dropped).
+    let (b, c) = (20.0, 10.0);
+    let rhombus = parameters(Strategy::MovingCentroid, Formation::Rhombus).nodes_hill_m();
+    let hexagon = parameters(Strategy::MovingCentroid, Formation::Hexagon).nodes_hill_m();
+    let cases = [
+        ("rhombus", rhombus),
+        ("hexagon", hexagon),
+        ("cloud 100", random_cloud(100, 40.0, 9)),
+        ("lattice 128", triangular_lattice(128, 6.0)),
+        ("cloud 2000", random_cloud(2000, 100.0, 21)),
+        ("lattice 2000", triangular_lattice(2000, 6.0)),
+    ];
+    for (what, nodes) in cases {
+        let mut p = parameters(Strategy::MovingCentroid, Formation::Custom);
+        assert_eq!((p.pair_b_per_s, p.pair_c_m2), (b, c));
+        p.nodes_hill_m = Some(nodes.iter().map(|v| [v.x, v.y, v.z]).collect());
+        let law = EquilibriumShaping::new(p.clone()).unwrap();
+        let bound = desired::pair_gershgorin_rate_per_s(&p, law.tables());
+        let exact = every_pair_gershgorin_per_s(&nodes, b, c);
+        let cutoff = neighbourhood::pair_cutoff_m(c, nodes.len());
+        let tail = neighbourhood::pair_tail_per_s(b, c, cutoff, nodes.len());
+        assert!(tail <= 1e-16 * b * (1.0 + 1e-9), "{what}: tail {tail:e}");
+        assert!(
+            bound >= exact * (1.0 - 1e-12) && bound <= exact * (1.0 + 1e-12) + tail,
+            "{what}: bound {bound} vs every pair {exact} (tail {tail:e})"
+        );
+        if nodes.len() > desired::EXACT_RATE_NODES {
+            assert_eq!(law.field_rate_at_nodes_per_s(), bound, "{what}");
+            assert!(neighbourhood::extent_m(&nodes) > 4.0 * cutoff, "{what}");
+        } else {
+            assert!(
+                law.field_rate_at_nodes_per_s() <= exact * (1.0 + 1e-12),
+                "{what}"
+            );
+        }
+        println!(
+            "{what}: {} nodes, r_c {cutoff:.2} m, bound {bound:.6} 1/s, every pair {exact:.6} 1/s, \
+             relative difference {:.1e}",
+            nodes.len(),
+            (bound - exact) / exact
+        );
+    }
+}
+
+#[test]
+fn val_formation_error_runs_over_the_node_pairs_within_the_sensing_range() {
+    // Reference: the RMS of ‖x_i − x_j‖ − δ_ij over the live pairs (i < j, lexicographic order) whose
+    // nodes are within the sensing range, by brute force. Equal to the bit: the law sums the same
+    // pairs in the same order. With a range covering the formation, every live pair.
+    let nodes = triangular_lattice(100, 6.0);
+    let mut p = parameters(Strategy::MovingCentroid, Formation::Custom);
+    p.nodes_hill_m = Some(nodes.iter().map(|v| [v.x, v.y, v.z]).collect());
+    let offsets = random_cloud(nodes.len(), 0.4, 5);
+    let moved: Vec<Vector3<f64>> = nodes.iter().zip(&offsets).map(|(n, o)| n + o).collect();
+    for range_m in [13.0, 100.0] {
+        let mut law = EquilibriumShaping::new(p.clone()).unwrap();
+        let mut scene = Scene::new(at_rest(&nodes), vec![], vec![]);
+        scene.range_m = range_m;
+        let mut states = vec![EsState::default(); nodes.len()];
+        law.initialise(&scene.view(0.0), &mut states).unwrap();
+        let mut scene = Scene::new(at_rest(&moved), vec![], vec![]);
+        scene.range_m = range_m;
+        for dead in [7, 30, 31] {
+            scene.flags[dead] = false;
+        }
+        let (mut sum, mut pairs, mut shift) = (0.0, 0usize, Vector3::zeros());
+        for i in (0..nodes.len()).filter(|i| scene.flags[*i]) {
+            shift += moved[i] - nodes[i];
+            for j in (i + 1..nodes.len()).filter(|j| scene.flags[*j]) {
+                if (nodes[i] - nodes[j]).norm() <= range_m {
+                    let e = (moved[i] - moved[j]).norm() - (nodes[i] - nodes[j]).norm();
+                    sum += e * e;
+                    pairs += 1;
+                }
+            }
+        }
+        let expected = ((sum / pairs as f64).sqrt(), (shift / 97.0).norm());
+        assert_eq!(
+            law.formation_error(&scene.view(0.0)),
+            expected,
+            "range {range_m} m"
+        );
+        println!(
+            "range {range_m} m: {pairs} pairs, error {:.6} m",
+            expected.0
+        );
+    }
 }

@@ -35,6 +35,7 @@ fn quick_suite_prints_parseable_lines_with_the_keys() {
             "steps",
             "sat_steps_per_s",
             "wall_s",
+            "setup_s",
             "peak_rss_bytes",
         ] {
             assert!(line.get(key).is_some(), "{line} lacks {key}");

@@ -1,13 +1,18 @@
 //! The active desired-velocity field of one satellite: which building blocks a strategy uses in each
 //! mode (paper §4; the strategy table of `docs/methods/equilibrium-shaping.md`), their sum at the
-//! satellite's sensed state, and the analytic material derivative of that sum along the satellite's and its neighbours' motion; also the stacked field
-//! Jacobian at the nodes that bounds the closed-loop rate.
+//! satellite's sensed state, and the analytic material derivative of that sum along the satellite's and
+//! its neighbours' motion; also the stacked field Jacobian at the nodes that bounds the closed-loop rate:
+//! its exact largest |λ| up to [`EXACT_RATE_NODES`] nodes (dense, once), above it for the Eq. 1 field a
+//! Gershgorin bound over the node pairs within a cutoff plus an analytic bound of the pairs beyond
+//! ([`pair_gershgorin_rate_per_s`], O(N k) once).
 //!
 //! Hill frame (x radial out, y along-track, z orbit normal), relative to the LVLH origin \[m, m/s\].
 
-use nalgebra::{DMatrix, Vector3};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use rayon::prelude::*;
 
 use super::field::{self, EscapeRule, FieldTerm, Viscosity};
+use super::neighbourhood;
 use super::parameters::{EquilibriumShapingParameters, Escape, Strategy};
 use super::shaping::pair_attraction_per_s;
 use super::state_machine::{EsState, Mode};
@@ -73,7 +78,8 @@ pub struct Tables {
     /// Centroid of the nodes, Hill \[m\].
     pub node_centroid_m: Vector3<f64>,
     /// Avoid coefficients b_ij \[1/s\], row-major N × N, symmetric (empty when the strategy has no
-    /// gather/avoid/dock field).
+    /// gather/avoid/dock field, such as S2: only the strategies capped at [`super::MAX_SHAPED_NODES`]
+    /// nodes hold this O(N²) table).
     pub avoid_per_s: Vec<f64>,
     /// The `perp-common` direction (also the `perp-radial` and `away` fallback) for the law's threat as
     /// the scenario defines it, Hill unit vector (`None` until the law has started, or without such a
@@ -274,7 +280,8 @@ pub fn desired_velocity(
 /// The Jacobian of the stacked field (every satellite on its node) of one field set with respect to
 /// every position, 3N × 3N \[1/s\]: block (i, i) the own-position derivatives, block (i, j) the
 /// neighbour's. The threat term and the viscosity are not included (they have no fixed point to
-/// linearise about; the law bounds them separately).
+/// linearise about; the law bounds them separately). O(N²) time and memory: for at most
+/// [`EXACT_RATE_NODES`] nodes.
 pub fn stacked_jacobian_at_nodes(
     p: &EquilibriumShapingParameters,
     tables: &Tables,
@@ -323,21 +330,26 @@ pub fn stacked_jacobian_at_nodes(
 }
 
 /// Node counts up to which [`field_rate_at_nodes_per_s`] solves the 3N × 3N eigenproblem; above it a
-/// Gershgorin bound is used (O(N²) time once, O(N) memory).
-pub const EXACT_RATE_NODES: usize = 128;
+/// Node counts up to which [`field_rate_at_nodes_per_s`] solves the 3N × 3N eigenproblem of the Eq. 1
+/// field; above it a Gershgorin bound is used ([`pair_gershgorin_rate_per_s`]: O(N) memory, O(N k)
+/// time with k the nodes within the cutoff). Equal to [`super::MAX_SHAPED_NODES`], the cap of the
+/// strategies with gather/avoid/dock (and scatter) fields, which are therefore always solved exactly.
+pub const EXACT_RATE_NODES: usize = super::MAX_SHAPED_NODES;
 
 /// Largest eigenvalue modulus of [`stacked_jacobian_at_nodes`] \[1/s\]. Every field set is a gradient
 /// field (Eq. 1, gather, avoid, dock, Lennard-Jones and scatter are each −∇ of a potential, the pair
 /// potentials symmetric in i and j), so the stacked Jacobian is symmetric up to rounding; the symmetric
-/// eigensolver is used on its symmetric part. Above [`EXACT_RATE_NODES`] nodes the largest absolute row
-/// sum (Gershgorin's bound, an upper bound of every |λ|) is returned instead.
+/// eigensolver is used on its symmetric part. For the Eq. 1 field above [`EXACT_RATE_NODES`] nodes an
+/// upper bound of every |λ| is returned instead, [`pair_gershgorin_rate_per_s`]. The other field sets
+/// are always solved exactly (dense, O(N³)): the law uses them only up to [`super::MAX_SHAPED_NODES`]
+/// nodes.
 pub fn field_rate_at_nodes_per_s(
     p: &EquilibriumShapingParameters,
     tables: &Tables,
     set: FieldSet,
 ) -> f64 {
-    if tables.nodes_m.len() > EXACT_RATE_NODES {
-        return gershgorin_rate_per_s(p, tables, set);
+    if set == FieldSet::Pair && tables.nodes_m.len() > EXACT_RATE_NODES {
+        return pair_gershgorin_rate_per_s(p, tables);
     }
     let jac = stacked_jacobian_at_nodes(p, tables, set);
     ((&jac + jac.transpose()) * 0.5)
@@ -347,45 +359,37 @@ pub fn field_rate_at_nodes_per_s(
         .fold(0.0, f64::max)
 }
 
-/// Largest absolute row sum of the stacked Jacobian at the nodes \[1/s\], without forming it.
-fn gershgorin_rate_per_s(p: &EquilibriumShapingParameters, tables: &Tables, set: FieldSet) -> f64 {
+/// Gershgorin's bound (largest absolute row sum) of the Eq. 1 field's stacked Jacobian at the nodes
+/// \[1/s\], without forming it, over the node pairs within the cutoff
+/// [`neighbourhood::pair_cutoff_m`] (found through the neighbour grid), plus the analytic bound
+/// [`neighbourhood::pair_tail_per_s`] of every pair left out: an upper bound of the exact row sums'
+/// maximum, by at most [`neighbourhood::NEGLECTED_RELATIVE`] · b (2·10⁻¹⁵ 1/s for b = 20 1/s) beyond
+/// the rounding of the sums. O(N) memory, O(N k) time (k: nodes within the cutoff, ~57 on the 6 m
+/// triangular lattice with c = 10 m²), rows in parallel.
+pub fn pair_gershgorin_rate_per_s(p: &EquilibriumShapingParameters, tables: &Tables) -> f64 {
     let nodes = &tables.nodes_m;
     let n = nodes.len();
-    let center = Vector3::from(p.danger_center_hill_m);
-    let mut largest: f64 = 0.0;
-    for i in 0..n {
-        let x = nodes[i];
-        let mut own = match set {
-            FieldSet::Pair => nalgebra::Matrix3::zeros(),
-            FieldSet::GatherAvoidDock => {
-                let mut m = field::gather(&x, &tables.node_centroid_m, n as f64 * p.gather_per_s)
-                    .d_own_per_s;
-                for sink in nodes {
-                    m += field::dock(&x, sink, p.dock_per_s, p.dock_range_m2).d_own_per_s;
-                }
-                m
-            }
-            FieldSet::Scatter => {
-                field::scatter(
-                    &x,
-                    &center,
-                    p.danger_radius_m,
-                    p.scatter_gain_per_m_s,
-                    &tables.node_direction(i, &center),
-                )
-                .d_own_per_s
-            }
-        };
+    let cutoff_m = neighbourhood::pair_cutoff_m(p.pair_c_m2, n);
+    let grid = neighbourhood::node_grid(nodes, cutoff_m);
+    let row = |i: usize| {
+        let mut own = Matrix3::zeros();
         let mut off_diagonal = Vector3::zeros();
-        for j in (0..n).filter(|j| *j != i) {
-            let t = pair_term(p, tables, set, i, j, &(x - nodes[j]));
+        grid.for_each_neighbour(i, |nb| {
+            let t = pair_term(
+                p,
+                tables,
+                FieldSet::Pair,
+                i,
+                nb.index,
+                &(nodes[i] - nodes[nb.index]),
+            );
             own += t.d_own_per_s;
             off_diagonal += t.d_neighbour_per_s.abs().column_sum();
-        }
-        let rows = own.abs().column_sum() + off_diagonal;
-        largest = largest.max(rows.max());
-    }
-    largest
+        });
+        (own.abs().column_sum() + off_diagonal).max()
+    };
+    let largest = (0..n).into_par_iter().map(row).reduce(|| 0.0, f64::max);
+    largest + neighbourhood::pair_tail_per_s(p.pair_b_per_s, p.pair_c_m2, cutoff_m, n)
 }
 
 /// The pair term of `set` between nodes i and j at offset `offset_m` = x_i − x_j \[m\].
@@ -410,47 +414,4 @@ fn pair_term(
         }
         FieldSet::Scatter => field::lennard_jones(offset_m, p.lj_epsilon_m2_per_s, delta),
     }
-}
-
-/// The field of every satellite on its node when the whole swarm sits on the nodes at rest, for one
-/// field set (no threat): what equilibrium shaping makes zero \[m/s\].
-pub fn field_at_nodes_mps(
-    p: &EquilibriumShapingParameters,
-    tables: &Tables,
-    set: FieldSet,
-) -> Vec<Vector3<f64>> {
-    let nodes = &tables.nodes_m;
-    let n = nodes.len();
-    let center = Vector3::from(p.danger_center_hill_m);
-    (0..n)
-        .map(|i| {
-            let x = nodes[i];
-            let mut v = match set {
-                FieldSet::Pair => Vector3::zeros(),
-                FieldSet::GatherAvoidDock => {
-                    let mut v =
-                        field::gather(&x, &tables.node_centroid_m, n as f64 * p.gather_per_s)
-                            .velocity_mps;
-                    for sink in nodes {
-                        v += field::dock(&x, sink, p.dock_per_s, p.dock_range_m2).velocity_mps;
-                    }
-                    v
-                }
-                FieldSet::Scatter => {
-                    field::scatter(
-                        &x,
-                        &center,
-                        p.danger_radius_m,
-                        p.scatter_gain_per_m_s,
-                        &tables.node_direction(i, &center),
-                    )
-                    .velocity_mps
-                }
-            };
-            for j in (0..n).filter(|j| *j != i) {
-                v += pair_term(p, tables, set, i, j, &(x - nodes[j])).velocity_mps;
-            }
-            v
-        })
-        .collect()
 }

@@ -30,21 +30,28 @@
 //! prescribes (against an impulse from a differentiated jump). The analytic feed-forward has no memory,
 //! so the reset only drops one tick of it.
 //!
-//! **Costs**: pair terms run over the neighbours the engine's grid returns (O(N) per step for a bounded
-//! neighbourhood); the dock term sums over every node (each satellite knows every node, O(N) per
-//! satellite); the equilibrium-shaping solve is a dense SVD of the N(N−1)/2 × 3N matrix Aᵀ, done once,
-//! which limits the strategies that use it (S1, S3, S4) to [`MAX_SHAPED_NODES`] nodes, and those
-//! strategies need a sensing range covering the whole formation (the ES coefficients balance every
-//! pair at the nodes). S2's pair terms vanish one by one at the nodes and need neither.
+//! **Costs** (N nodes, k the nodes within a radius): pair terms run over the neighbours the engine's grid
+//! returns (O(N k) per step); the dock term sums over every node (O(N) per satellite), and the
+//! equilibrium-shaping solve is a dense SVD of the N(N−1)/2 × 3N matrix Aᵀ, done once, which limits the
+//! strategies that use them (S1, S3, S4) to [`MAX_SHAPED_NODES`] nodes; those strategies need a sensing
+//! range covering the whole formation (the ES coefficients balance every pair at the nodes). S2's pair
+//! terms vanish one by one at the nodes and need neither. Nothing else is quadratic in N, so S2 runs at
+//! 10⁶ satellites: the set-up's node check finds coincident nodes through a neighbour grid and the
+//! field's rate bound sums the Eq. 1 Jacobian over the pairs within a cutoff radius with the rest
+//! bounded analytically ([`desired::pair_gershgorin_rate_per_s`], [`neighbourhood`]), O(N k) once; the
+//! record-time formation error runs over the node pairs within the sensing range (O(N k log k) per
+//! recording); the gather over every sink is one term at the node centroid.
 
 pub mod desired;
 pub mod field;
+pub mod neighbourhood;
 pub mod parameters;
 mod results;
 pub mod shaping;
 pub mod state_machine;
 
 use crate::invalid::Invalid;
+use neighbourhood::NodePairs;
 use std::sync::Arc;
 
 use nalgebra::Vector3;
@@ -99,6 +106,9 @@ pub struct EquilibriumShaping {
     field_rate_per_s: f64,
     /// What the law learnt from the swarm when it started.
     started: Option<SwarmFacts>,
+    /// The node pairs of the formation error: those within the sensing range once started (every pair
+    /// before).
+    error_pairs: Arc<NodePairs>,
     /// Smallest satellite–threat distance over the recordings so far \[m\].
     min_threat_distance_m: f64,
 }
@@ -108,12 +118,14 @@ impl EquilibriumShaping {
     /// computes the field's rate at the nodes.
     pub fn new(parameters: EquilibriumShapingParameters) -> Result<Self, LawError> {
         let (tables, avoid, field_rate_per_s) = Self::prepare(&parameters)?;
+        let error_pairs = Arc::new(NodePairs::every(tables.nodes_m.len()));
         Ok(Self {
             parameters,
             tables: Arc::new(tables),
             avoid,
             field_rate_per_s,
             started: None,
+            error_pairs,
             min_threat_distance_m: f64::INFINITY,
         })
     }
@@ -280,18 +292,20 @@ impl EquilibriumShaping {
         let shaped = desired::fields_of(p.strategy)
             .iter()
             .any(|(set, _)| *set == FieldSet::GatherAvoidDock);
-        let largest = Self::largest_node_distance_m(tables);
         let range = started.sensing_range_m;
-        if shaped && largest > range {
-            return Err(invalid(Invalid::keys(
-                "formation",
-                format!(
-                "the largest node distance {largest} m exceeds the sensing range {range} m: the \
-                 equilibrium-shaped avoid coefficients balance every pair at the nodes, so every \
-                 satellite must sense every other there (allowed: sensing.range_m >= {largest})"
-            ),
-                "",
-            )));
+        if shaped {
+            let largest = Self::largest_node_distance_m(tables);
+            if largest > range {
+                return Err(invalid(Invalid::keys(
+                    "formation",
+                    format!(
+                    "the largest node distance {largest} m exceeds the sensing range {range} m: the \
+                     equilibrium-shaped avoid coefficients balance every pair at the nodes, so every \
+                     satellite must sense every other there (allowed: sensing.range_m >= {largest})"
+                ),
+                    "",
+                )));
+            }
         }
         let threats = &started.threat_velocities_hill_mps;
         if threats.is_empty() {
@@ -350,34 +364,43 @@ impl EquilibriumShaping {
         largest
     }
 
-    /// Formation error (RMS over live pairs of ‖x_i − x_j‖ − δ_ij) \[m\] and centroid displacement
-    /// (centroid of the live satellites minus the centroid of their nodes) \[m\] of a swarm.
+    /// Formation error (RMS of ‖x_i − x_j‖ − δ_ij over the live pairs whose nodes are within the sensing
+    /// range, δ_ij ≤ R: every pair for S1, S3 and S4, whose checks ask for it, and for any formation the
+    /// range covers) \[m\] and centroid displacement (centroid of the live satellites minus the centroid of
+    /// their nodes) \[m\] of a swarm. Pairs are summed in lexicographic order. O(N k log k) with k the
+    /// nodes within the range (before the law starts: every pair).
     pub fn formation_error(&self, swarm: &SwarmView<'_>) -> (f64, f64) {
         let n = swarm.len().min(self.tables.nodes_m.len());
-        let live: Vec<usize> = (0..n).filter(|i| swarm.active[*i]).collect();
+        let live = |i: usize| i < n && swarm.active[i];
         let (mut sum, mut pairs) = (0.0, 0usize);
-        for (a, &i) in live.iter().enumerate() {
-            for &j in &live[a + 1..] {
-                let d = (swarm.relative_states[i].position_m - swarm.relative_states[j].position_m)
-                    .norm();
-                let e = d - self.tables.distance_m(i, j);
-                sum += e * e;
-                pairs += 1;
-            }
+        let mut partners = Vec::new();
+        for i in (0..n).filter(|i| live(*i)) {
+            self.error_pairs
+                .for_each_later_partner(i, &mut partners, |j| {
+                    if live(j) {
+                        let d = (swarm.relative_states[i].position_m
+                            - swarm.relative_states[j].position_m)
+                            .norm();
+                        let e = d - self.tables.distance_m(i, j);
+                        sum += e * e;
+                        pairs += 1;
+                    }
+                });
         }
         let error = if pairs > 0 {
             (sum / pairs as f64).sqrt()
         } else {
             0.0
         };
-        let displacement = if live.is_empty() {
+        let (mut shift, mut count) = (Vector3::zeros(), 0usize);
+        for i in (0..n).filter(|i| live(*i)) {
+            shift += swarm.relative_states[i].position_m - self.tables.nodes_m[i];
+            count += 1;
+        }
+        let displacement = if count == 0 {
             0.0
         } else {
-            let c: Vector3<f64> = live
-                .iter()
-                .map(|i| swarm.relative_states[*i].position_m - self.tables.nodes_m[*i])
-                .sum();
-            (c / live.len() as f64).norm()
+            (shift / count as f64).norm()
         };
         (error, displacement)
     }
@@ -419,6 +442,7 @@ impl GuidanceLaw for EquilibriumShaping {
         let common = Self::check_against(&self.parameters, &self.tables, &started)?;
         let mut tables = (*self.tables).clone();
         tables.common_escape_hill = common;
+        self.error_pairs = Arc::new(NodePairs::within(&tables.nodes_m, started.sensing_range_m));
         self.tables = Arc::new(tables);
         self.started = Some(started);
         self.min_threat_distance_m = f64::INFINITY;
@@ -473,9 +497,12 @@ impl GuidanceLaw for EquilibriumShaping {
         parameters: &EquilibriumShapingParameters,
     ) -> Result<(), LawError> {
         let (mut tables, avoid, rate) = Self::prepare(parameters)?;
+        let mut error_pairs = NodePairs::every(tables.nodes_m.len());
         if let Some(started) = &self.started {
             tables.common_escape_hill = Self::check_against(parameters, &tables, started)?;
+            error_pairs = NodePairs::within(&tables.nodes_m, started.sensing_range_m);
         }
+        self.error_pairs = Arc::new(error_pairs);
         self.parameters = parameters.clone();
         self.tables = Arc::new(tables);
         self.avoid = avoid;

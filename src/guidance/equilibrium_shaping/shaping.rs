@@ -19,10 +19,13 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 use thiserror::Error;
 
+use super::neighbourhood;
+
 /// Relative residual above which a node set is refused: ‖A p − r‖ > `RESIDUAL_TOLERANCE` · ‖r‖.
 pub const RESIDUAL_TOLERANCE: f64 = 1e-9;
 
-/// Nodes closer than this fraction of the largest node distance are taken as coincident.
+/// Nodes closer than this fraction of the formation's extent (the diagonal of its bounding box, 1 to √3
+/// times the largest node distance, [`neighbourhood::extent_m`]) are taken as coincident.
 pub const COINCIDENT_FRACTION: f64 = 1e-9;
 
 /// Condition number (largest over smallest retained singular value) above which a solution is flagged.
@@ -99,7 +102,8 @@ pub fn closed_form_avoid_per_s(delta_m: f64, gains: &GatherAvoidDock) -> f64 {
 }
 
 /// Refuses node sets with fewer than two nodes, non-finite coordinates or coincident nodes (closer than
-/// [`COINCIDENT_FRACTION`] of the largest node distance).
+/// [`COINCIDENT_FRACTION`] of the formation's extent; the closest such pair is named, ties to the first
+/// in lexicographic order). O(N log N) through a neighbour grid (plus the coincident pairs found).
 pub fn check_nodes(nodes_m: &[Vector3<f64>]) -> Result<(), ShapingError> {
     if nodes_m.len() < 2 {
         return Err(ShapingError::TooFewNodes {
@@ -112,25 +116,15 @@ pub fn check_nodes(nodes_m: &[Vector3<f64>]) -> Result<(), ShapingError> {
     {
         return Err(ShapingError::NonFinite { node });
     }
-    let mut largest: f64 = 0.0;
-    let mut smallest = (f64::INFINITY, 0, 0);
-    for i in 0..nodes_m.len() {
-        for j in i + 1..nodes_m.len() {
-            let d = (nodes_m[i] - nodes_m[j]).norm();
-            largest = largest.max(d);
-            if d < smallest.0 {
-                smallest = (d, i, j);
-            }
-        }
+    let threshold_m = COINCIDENT_FRACTION * neighbourhood::extent_m(nodes_m);
+    match neighbourhood::closest_pair_within(nodes_m, threshold_m) {
+        Some((first, second, distance_m)) => Err(ShapingError::CoincidentNodes {
+            first,
+            second,
+            distance_m,
+        }),
+        None => Ok(()),
     }
-    if smallest.0 <= COINCIDENT_FRACTION * largest {
-        return Err(ShapingError::CoincidentNodes {
-            first: smallest.1,
-            second: smallest.2,
-            distance_m: smallest.0,
-        });
-    }
-    Ok(())
 }
 
 /// The linear system A p = r of the avoid coefficients.
