@@ -3,7 +3,9 @@
 //! `/proc/self/status`) is its own. One JSON line per case on stdout (`setup_s`: the wall clock of building
 //! the case's simulation, from its scenario text to the law's set-up), then a Markdown table.
 //!
-//! Cases (N = 10^3 … 10^6 unless `--max-n` says less; a few steps at the largest N):
+//! Cases (N = 10^3 … 10^6 unless `--max-n` says less; a few steps at the largest N; `satflock bench case`
+//! runs the sphere cases at any N up to the scenario layer's 10^7, e.g. `bench case bifurcating 10000000
+//! --steps 100`):
 //! * `propagation`: the engine with no law (`name = "none"`, free drift) (J2 truth, RK4 and sampled control at 1 s);
 //! * `hold-repel`: the `hold` law plus a pairwise spring repulsion through the neighbour grid, ~10
 //!   neighbours each (also the criterion benchmark `cli/benches/engine_step.rs`);
@@ -30,19 +32,20 @@ use crate::bench_cases::simulation;
 use anyhow::{bail, Context, Result};
 use nalgebra::Vector3;
 use satflock::metrics::{five_elements, FiveElementsWorkspace};
-use satflock::scenario::initial;
+use satflock::scenario::{initial, MAX_SATELLITES};
 
-/// The cases: name, the law that runs (if any), and the largest N measured.
+/// The cases: name, the law that runs (if any), and the largest N the case takes (the suite measures
+/// [`SIZES`] up to it; `satflock bench case` takes any N up to it).
 const CASES: &[(&str, Option<&str>, usize)] = &[
-    ("propagation", Some("none"), 1_000_000),
-    ("hold-repel", Some("hold+repulsion"), 1_000_000),
-    ("bifurcating", Some("bifurcating"), 1_000_000),
+    ("propagation", Some("none"), MAX_SATELLITES),
+    ("hold-repel", Some("hold+repulsion"), MAX_SATELLITES),
+    ("bifurcating", Some("bifurcating"), MAX_SATELLITES),
     (
         "equilibrium-shaping",
         Some("equilibrium-shaping"),
         1_000_000,
     ),
-    ("pigeon", Some("pigeon"), 1_000_000),
+    ("pigeon", Some("pigeon"), MAX_SATELLITES),
     ("five-elements", None, 100_000),
 ];
 
