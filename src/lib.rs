@@ -49,6 +49,7 @@ pub mod metrics;
 pub mod orbit;
 pub mod orbit_files;
 pub mod output;
+mod prefetch;
 pub mod propagate;
 pub mod random;
 pub mod relative;

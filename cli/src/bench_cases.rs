@@ -43,6 +43,9 @@ impl GuidanceLaw for HoldAndRepel {
         });
         u
     }
+    fn prefetch(&self, id: usize) {
+        self.hold.prefetch(id);
+    }
     fn set_parameters(&mut self, p: &HoldParameters) -> Result<(), LawError> {
         self.hold.set_parameters(p)
     }

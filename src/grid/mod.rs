@@ -18,7 +18,9 @@
 //! * A fixed-radius query prefilters each row of cells in branch-free batches: the squared distances of
 //!   up to 64 candidates, the slots that pass appended without a branch (most candidates fail,
 //!   unpredictably; module `prefilter`: a portable loop, and an AVX-512 copy chosen at run time that passes
-//!   the same candidates). The passing slots of all rows are buffered, then the exact test and the
+//!   the same candidates). The copy is chosen once per query, and the whole query (row loop, batches,
+//!   exact test and the caller's visit) is compiled once per copy, inlined into one function, so a row
+//!   costs no call. The passing slots of all rows are buffered, then the exact test and the
 //!   visits run in one loop in slot order. A query keeps only the cells that the box
 //!   `[p − reach, p + reach]` meets (often the satellite's own cell alone for a reach well below the
 //!   cell edge). The answers and their order are those of a plain slot-by-slot
@@ -48,7 +50,9 @@ pub use ring::RingOrder;
 
 use std::ops::Range;
 
-use prefilter::{Candidates, Prefilter};
+#[cfg(target_arch = "x86_64")]
+use prefilter::Avx512Batches;
+use prefilter::{Batches, Candidates, PortableBatches, Prefilter};
 
 use rayon::prelude::*;
 use thiserror::Error;
@@ -470,6 +474,7 @@ impl NeighbourGrid {
     }
 
     /// Whether the satellite in storage slot `s` is hidden by the mask.
+    #[inline(always)]
     fn hidden_slot(&self, s: usize) -> bool {
         self.hidden.get(s).copied().unwrap_or(false)
     }
@@ -562,11 +567,47 @@ impl NeighbourGrid {
         &self,
         si: usize,
         reach_m: f64,
-        mut visit: impl FnMut(Neighbour),
+        visit: impl FnMut(Neighbour),
     ) {
         if reach_m.is_nan() || reach_m < 0.0 {
             return;
         }
+        // The copy of the prefilter is chosen once per query, and the whole query is compiled once
+        // per copy, with its batches inlined into the row loop.
+        match self.prefilter.avx512() {
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            // SAFETY: `batches` exists only on a CPU with AVX-512F and AVX-512VL, the features the
+            // function enables.
+            Some(batches) => unsafe { self.within_avx512(batches, si, reach_m, visit) },
+            _ => self.within(PortableBatches, si, reach_m, visit),
+        }
+    }
+
+    /// [`Self::within`] compiled with AVX-512F and AVX-512VL enabled, for their batches (`batches`
+    /// proves the CPU has them).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512vl")]
+    fn within_avx512(
+        &self,
+        batches: Avx512Batches,
+        si: usize,
+        reach_m: f64,
+        visit: impl FnMut(Neighbour),
+    ) {
+        self.within(batches, si, reach_m, visit);
+    }
+
+    /// The query of [`Self::for_each_within_slot`] (a reach neither negative nor NaN), prefiltering
+    /// with `batches`.
+    #[inline(always)]
+    fn within<B: Batches>(
+        &self,
+        batches: B,
+        si: usize,
+        reach_m: f64,
+        visit: impl FnMut(Neighbour),
+    ) {
         let p = [self.xs[si], self.ys[si], self.zs[si]];
         let c = self.cell_of(p);
         // Satellites k + 1 or more cells away are farther than k · gap (> reach once k = K).
@@ -578,37 +619,19 @@ impl NeighbourGrid {
         // Prefilter on squared distance, with a relative margin so it never rejects a point that passes
         // the exact `sqrt(d2) <= reach` test.
         let reach2 = reach_m * reach_m * (1.0 + 1e-10);
-        // Each row of cells is scanned in batches: the squared distances of a whole batch, with the
-        // slots that pass appended without a branch (most candidates fail, unpredictably). The exact
-        // test and the visits run over everything passed so far, in slot order, once the buffer might
-        // not hold another batch and at the end: one loop over the passed candidates per query, not
-        // one per row.
-        let mut passed = [0u32; PASSED_CAPACITY];
-        let mut count = 0;
-        let mut scan =
-            |slots: Range<usize>, passed: &mut [u32; PASSED_CAPACITY], count: &mut usize| {
-                let mut start = slots.start;
-                while start < slots.end {
-                    if *count + SCAN_BATCH > PASSED_CAPACITY {
-                        self.visit_passed(si, p, reach_m, &passed[..*count], &mut visit);
-                        *count = 0;
-                    }
-                    let end = (start + SCAN_BATCH).min(slots.end);
-                    let window: &mut [u32; SCAN_BATCH] = (&mut passed[*count..*count + SCAN_BATCH])
-                        .try_into()
-                        .expect("a window of SCAN_BATCH slots");
-                    let candidates = Candidates {
-                        xs: &self.xs[start..end],
-                        ys: &self.ys[start..end],
-                        zs: &self.zs[start..end],
-                        first_slot: start as u32,
-                    };
-                    *count += self.prefilter.passing(candidates, p, reach2, window);
-                    start = end;
-                }
-            };
+        let mut query = Query {
+            grid: self,
+            batches,
+            si,
+            p,
+            reach_m,
+            reach2,
+            passed: [0; PASSED_CAPACITY],
+            count: 0,
+            visit,
+        };
         if self.block_cells(c, k) > self.brute_force_threshold() {
-            scan(0..self.len(), &mut passed, &mut count);
+            query.scan(0..self.len());
         } else {
             // Only the cells the box [p − reach, p + reach] meets: all 3 × 3 × 3 for a reach of the
             // radius, often the satellite's own cell alone for a reach well below it.
@@ -617,37 +640,11 @@ impl NeighbourGrid {
             let (z_lo, z_hi) = self.reach_span(c, k, p, reach_m, 2);
             for z in z_lo..=z_hi {
                 for y in y_lo..=y_hi {
-                    scan(self.row(y, z, x_lo, x_hi), &mut passed, &mut count);
+                    query.scan(self.row(y, z, x_lo, x_hi));
                 }
             }
         }
-        self.visit_passed(si, p, reach_m, &passed[..count], &mut visit);
-    }
-
-    /// The exact test and the visit of the candidate slots `passed` (ascending) of a query from slot
-    /// `si` at position `p` with reach `reach_m`.
-    fn visit_passed(
-        &self,
-        si: usize,
-        p: [f64; 3],
-        reach_m: f64,
-        passed: &[u32],
-        visit: &mut impl FnMut(Neighbour),
-    ) {
-        for &s in passed {
-            let s = s as usize;
-            let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
-            let d = (dx * dx + dy * dy + dz * dz).sqrt();
-            if s != si && d <= reach_m && !self.hidden_slot(s) {
-                visit(Neighbour {
-                    index: self.items[s] as usize,
-                    dx_m: dx,
-                    dy_m: dy,
-                    dz_m: dz,
-                    distance_m: d,
-                });
-            }
-        }
+        query.visit_passed();
     }
 
     /// The nearest other satellite to satellite `i`, at any distance (the search widens ring by ring of
@@ -704,6 +701,7 @@ impl NeighbourGrid {
     }
 
     /// Cell coordinates of a position (clamped into the grid).
+    #[inline(always)]
     fn cell_of(&self, p: [f64; 3]) -> [u64; 3] {
         let mut c = [0; 3];
         for a in 0..3 {
@@ -716,20 +714,24 @@ impl NeighbourGrid {
     }
 
     /// Linear cell key, ascending in (z, y, x) lexicographic order.
+    #[inline(always)]
     fn key(&self, c: [u64; 3]) -> u64 {
         c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
     }
 
+    #[inline(always)]
     fn max_dim(&self) -> u64 {
         self.dims[0].max(self.dims[1]).max(self.dims[2])
     }
 
     /// Above this many cells in a query block, a scan of all satellites is cheaper.
+    #[inline(always)]
     fn brute_force_threshold(&self) -> u64 {
         4 * self.len() as u64 + 64
     }
 
     /// Inclusive cell range `[c - k, c + k]` clamped to the grid along axis `a`.
+    #[inline(always)]
     fn span(&self, c: [u64; 3], k: u64, a: usize) -> (u64, u64) {
         (
             c[a].saturating_sub(k),
@@ -740,6 +742,7 @@ impl NeighbourGrid {
     /// [`Self::span`] narrowed to the cells that the interval `[p − reach, p + reach]` (widened by
     /// [`BOX_MARGIN_CELLS`]) meets along axis `a`: dropping whole cells, never a satellite within the
     /// reach, so a query visits the same satellites in the same order.
+    #[inline(always)]
     fn reach_span(&self, c: [u64; 3], k: u64, p: [f64; 3], reach_m: f64, a: usize) -> (u64, u64) {
         let (lo, hi) = self.span(c, k, a);
         let u = (p[a] - self.origin_m[a]) * self.inv_cell;
@@ -750,6 +753,7 @@ impl NeighbourGrid {
     }
 
     /// Number of grid cells in the clamped block of half-width `k` around cell `c`.
+    #[inline(always)]
     fn block_cells(&self, c: [u64; 3], k: u64) -> u64 {
         (0..3)
             .map(|a| {
@@ -760,6 +764,7 @@ impl NeighbourGrid {
     }
 
     /// Storage slots of the cells `(x_lo..=x_hi, y, z)`: one contiguous range in both layouts.
+    #[inline(always)]
     fn row(&self, y: u64, z: u64, x_lo: u64, x_hi: u64) -> Range<usize> {
         let k0 = self.key([x_lo, y, z]);
         let k1 = k0 + (x_hi - x_lo) + 1;
@@ -808,6 +813,76 @@ impl NeighbourGrid {
                 }
             }
         }
+    }
+}
+
+/// One fixed-radius query under way: each row of cells is scanned in batches (the squared distances
+/// of a whole batch, with the slots that pass appended without a branch: most candidates fail,
+/// unpredictably). The exact test and the visits run over everything passed so far, in slot order,
+/// once the buffer might not hold another batch and at the end: one loop over the passed candidates
+/// per query, not one per row.
+struct Query<'g, B, V> {
+    grid: &'g NeighbourGrid,
+    batches: B,
+    /// The querying satellite's slot and position (m).
+    si: usize,
+    p: [f64; 3],
+    /// The reach (m), and the squared reach of the prefilter (m²).
+    reach_m: f64,
+    reach2: f64,
+    /// The candidate slots passed so far (the first `count`), ascending.
+    passed: [u32; PASSED_CAPACITY],
+    count: usize,
+    visit: V,
+}
+
+impl<B: Batches, V: FnMut(Neighbour)> Query<'_, B, V> {
+    /// Prefilters the candidate slots `slots` (one row of cells, or all satellites).
+    #[inline(always)]
+    fn scan(&mut self, slots: Range<usize>) {
+        let g = self.grid;
+        let mut start = slots.start;
+        while start < slots.end {
+            if self.count + SCAN_BATCH > PASSED_CAPACITY {
+                self.visit_passed();
+            }
+            let end = (start + SCAN_BATCH).min(slots.end);
+            let window: &mut [u32; SCAN_BATCH] = (&mut self.passed
+                [self.count..self.count + SCAN_BATCH])
+                .try_into()
+                .expect("a window of SCAN_BATCH slots");
+            let candidates = Candidates {
+                xs: &g.xs[start..end],
+                ys: &g.ys[start..end],
+                zs: &g.zs[start..end],
+                first_slot: start as u32,
+            };
+            self.count += self
+                .batches
+                .passing(candidates, self.p, self.reach2, window);
+            start = end;
+        }
+    }
+
+    /// The exact test and the visit of the candidate slots passed so far, which it empties.
+    #[inline(always)]
+    fn visit_passed(&mut self) {
+        let (g, p) = (self.grid, self.p);
+        for &s in &self.passed[..self.count] {
+            let s = s as usize;
+            let (dx, dy, dz) = (g.xs[s] - p[0], g.ys[s] - p[1], g.zs[s] - p[2]);
+            let d = (dx * dx + dy * dy + dz * dz).sqrt();
+            if s != self.si && d <= self.reach_m && !g.hidden_slot(s) {
+                (self.visit)(Neighbour {
+                    index: g.items[s] as usize,
+                    dx_m: dx,
+                    dy_m: dy,
+                    dz_m: dz,
+                    distance_m: d,
+                });
+            }
+        }
+        self.count = 0;
     }
 }
 

@@ -52,32 +52,84 @@ pub(crate) fn avx512_available() -> bool {
 }
 
 impl Prefilter {
+    /// The AVX-512 copy's batches when this grid runs that copy on a CPU that has it, else `None` (run
+    /// [`PortableBatches`]). Checked once per query, not once per batch.
+    #[inline]
+    pub(crate) fn avx512(self) -> Option<Avx512Batches> {
+        (self == Prefilter::Avx512 && avx512_available()).then_some(Avx512Batches(()))
+    }
+}
+
+/// One copy of the prefilter as a type, so that a query is compiled once per copy with the copy's
+/// batches inlined into its row loop.
+pub(crate) trait Batches: Copy {
     /// Writes to the front of `passed`, ascending, the storage slots `first_slot + o` of the
     /// `candidates` `(xs[o], ys[o], zs[o])` whose squared distance from `p` (m) is at most `reach2`
     /// (m²), and returns how many there are.
     ///
     /// # Panics
     /// If the slices differ in length or are longer than [`SCAN_BATCH`].
-    #[allow(unsafe_code)]
-    #[inline]
-    pub(crate) fn passing(
+    fn passing(
+        self,
+        candidates: Candidates<'_>,
+        p: [f64; 3],
+        reach2: f64,
+        passed: &mut [u32; SCAN_BATCH],
+    ) -> usize;
+}
+
+/// The portable copy's batches (any CPU).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PortableBatches;
+
+impl Batches for PortableBatches {
+    #[inline(always)]
+    fn passing(
         self,
         candidates: Candidates<'_>,
         p: [f64; 3],
         reach2: f64,
         passed: &mut [u32; SCAN_BATCH],
     ) -> usize {
-        let Candidates { xs, ys, zs, .. } = candidates;
-        let n = xs.len();
-        assert!(ys.len() == n && zs.len() == n && n <= SCAN_BATCH);
-        #[cfg(target_arch = "x86_64")]
-        if self == Prefilter::Avx512 && avx512_available() {
-            // SAFETY: the CPU has AVX-512F and AVX-512VL (checked on the line above), the only
-            // features the function enables; the lengths were checked above.
-            return unsafe { passing_avx512(candidates, p, reach2, passed) };
-        }
+        check_lengths(candidates);
         passing_portable(candidates, p, reach2, passed)
     }
+}
+
+/// The AVX-512 copy's batches: a value exists only on a CPU with AVX-512F and AVX-512VL (made by
+/// [`Prefilter::avx512`] after the run-time check), which is what makes its batches safe to run.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx512Batches(());
+
+impl Batches for Avx512Batches {
+    #[inline(always)]
+    #[allow(unsafe_code)]
+    fn passing(
+        self,
+        candidates: Candidates<'_>,
+        p: [f64; 3],
+        reach2: f64,
+        passed: &mut [u32; SCAN_BATCH],
+    ) -> usize {
+        check_lengths(candidates);
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: `self` exists, so the CPU has AVX-512F and AVX-512VL, the only features the
+            // function enables; the lengths were checked above.
+            unsafe { passing_avx512(candidates, p, reach2, passed) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            passing_portable(candidates, p, reach2, passed)
+        }
+    }
+}
+
+/// Panics unless the three coordinate slices have one length, at most [`SCAN_BATCH`].
+#[inline(always)]
+fn check_lengths(candidates: Candidates<'_>) {
+    let n = candidates.xs.len();
+    assert!(candidates.ys.len() == n && candidates.zs.len() == n && n <= SCAN_BATCH);
 }
 
 /// The portable copy: each candidate's slot is written, and the count advances only when it passes
@@ -112,6 +164,7 @@ fn passing_portable(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl")]
 #[allow(unsafe_code)]
+#[inline]
 unsafe fn passing_avx512(
     candidates: Candidates<'_>,
     p: [f64; 3],
@@ -239,7 +292,10 @@ pub(super) mod tests {
                     zs: &zs,
                     first_slot,
                 };
-                let count = copy.passing(candidates, p, reach2, &mut passed);
+                let count = match copy.avx512() {
+                    Some(avx512) => avx512.passing(candidates, p, reach2, &mut passed),
+                    None => PortableBatches.passing(candidates, p, reach2, &mut passed),
+                };
                 assert_eq!(&passed[..count], &expected[..], "{copy:?}, n = {n}");
             }
         }

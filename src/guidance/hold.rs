@@ -130,6 +130,14 @@ impl GuidanceLaw for Hold {
         u
     }
 
+    /// Starts loading the satellite's start position (read by id: scattered in memory on a large
+    /// swarm evaluated in cell order).
+    fn prefetch(&self, id: usize) {
+        if let Some(start) = self.start_positions_hill_m.get(id) {
+            crate::prefetch::read(start);
+        }
+    }
+
     fn set_parameters(&mut self, parameters: &HoldParameters) -> Result<(), LawError> {
         check(parameters)?;
         self.parameters = parameters.clone();

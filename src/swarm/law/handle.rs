@@ -125,6 +125,8 @@ erased_law! {
         pub fn is_stateful() -> bool;
         /// What the law commands.
         pub fn command_kind() -> CommandKind;
+        /// See [`GuidanceLaw::prefetch`].
+        pub(crate) fn prefetch(id: usize);
         /// See [`GuidanceLaw::senses_neighbours`].
         pub fn senses_neighbours() -> bool;
         /// See [`GuidanceLaw::commands_nothing`].
@@ -249,6 +251,10 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         self.law.as_commands_drag().is_some()
     }
 
+    fn prefetch(&self, id: usize) {
+        self.law.prefetch(id);
+    }
+
     fn senses_neighbours(&self) -> bool {
         self.law.senses_neighbours()
     }
@@ -369,6 +375,9 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                     .zip(indices.chunks(OWN_BATCH));
                 for (batch, ((states, commands), indices)) in batches.enumerate() {
                     let own = own_batch(tick, swarm, indices, chunk * CHUNK + batch * OWN_BATCH);
+                    own.iter()
+                        .flatten()
+                        .for_each(|(own, _)| law.prefetch(own.id));
                     for ((state, out), (own, &index)) in
                         states.iter_mut().zip(commands).zip(own.iter().zip(indices))
                     {

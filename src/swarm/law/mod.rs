@@ -189,6 +189,13 @@ pub trait GuidanceLaw: Send + Sync + 'static {
     /// with the current values and validated the result).
     fn set_parameters(&mut self, parameters: &Self::Parameters) -> Result<(), LawError>;
 
+    /// A hint that the engine is about to evaluate satellite `id` (its state update or command): a law
+    /// that reads data of its own by satellite id may start loading it now (the engine evaluates the
+    /// satellites in the sensing grid's cell order, in which their ids are scattered, and hints a
+    /// batch of satellites before evaluating them). Must not change anything the law computes;
+    /// default: nothing.
+    fn prefetch(&self, _id: usize) {}
+
     /// Whether the law reads neighbours (the view's neighbour queries through the sensing grid, or
     /// the ring); default `true`. A law that never does returns `false`, and the engine then skips
     /// building the sensing grid for its evaluations (the view's neighbour queries find nothing).

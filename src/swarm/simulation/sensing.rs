@@ -458,7 +458,8 @@ impl<'a> Plant<'a> {
             return;
         }
         // Each batch first copies out its satellites' own data (loads by storage index, scattered in memory on a
-        // large swarm, issued back to back so they overlap), then evaluates the laws on the copies.
+        // large swarm, issued back to back so they overlap) and hints the law at them (its own data by
+        // id is scattered too), then evaluates the laws on the copies.
         let evaluation = PlantTick {
             plant: self,
             time_s: view.shared.time_s,
@@ -476,6 +477,9 @@ impl<'a> Plant<'a> {
                 {
                     let first_slot = chunk * CHUNK + batch * OWN_BATCH;
                     let own = own_batch(&evaluation, view, indices, first_slot);
+                    own.iter()
+                        .flatten()
+                        .for_each(|(own, _)| law.prefetch(own.id));
                     for (out, own) in outs.iter_mut().zip(own) {
                         *out = own.map_or_else(Vector3::zeros, |(own, actuator)| {
                             self.commanded(law, &view.satellite_with(own), actuator, tick)
