@@ -292,7 +292,7 @@ impl Simulation {
                     Vec::new()
                 },
             },
-            sensed: Sensed::new(n, senses_neighbours),
+            sensed: Sensed::new(senses_neighbours),
             drag_commands: if satellites.iter().any(|s| s.drag_attitudes.is_some()) {
                 vec![None; n]
             } else {

@@ -42,7 +42,7 @@ impl StageScratch {
         Self {
             truth: vec![RelativeStateHill::default(); n],
             // Continuous control builds the grid whatever the law reads.
-            sensed: Sensed::new(n, true),
+            sensed: Sensed::new(true),
             applied_hill: vec![Vector3::zeros(); n],
             per_satellite: vec![[0.0; SOLO]; n],
         }

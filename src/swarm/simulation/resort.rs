@@ -25,7 +25,7 @@ impl Simulation {
     /// the order is left as it is.
     pub(super) fn resort_if_due(&mut self, tick: u64) {
         if !matches!(self.config.control, ControlTiming::Sampled { .. })
-            || !self.sensed.neighbours
+            || !self.sensed.grids.neighbours
             || self.resort_period_ticks == 0
             || !tick.is_multiple_of(self.resort_period_ticks)
         {
@@ -35,6 +35,7 @@ impl Simulation {
         let range_m = self.config.sensing.range_m;
         let Some(cells) = self
             .sensed
+            .grids
             .grid_over(&self.satellites.truth, range_m, ranks)
         else {
             return; // a non-finite position: the divergence check stops the run

@@ -39,9 +39,16 @@ pub(super) struct FleetById {
 }
 
 /// The navigation view of the swarm at one evaluation: navigation states (truth plus the noise held over
-/// the step), their positions component-wise, and the sensing grid over them. Allocated once.
+/// the step; empty without navigation noise, when the views read the truth itself) and the sensing grid
+/// over them. Allocated when first needed, then kept.
 pub(super) struct Sensed {
     pub navigation: Vec<RelativeStateHill>,
+    pub grids: SensingGrid,
+}
+
+/// The neighbour structures over the navigation positions: those positions component-wise, the sensing
+/// grid, and the ring along the orbit.
+pub(super) struct SensingGrid {
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
@@ -56,20 +63,24 @@ pub(super) struct Sensed {
 }
 
 impl Sensed {
-    /// The buffers for `n` satellites; `neighbours`: whether the law reads neighbours.
-    pub fn new(n: usize, neighbours: bool) -> Self {
+    /// Empty buffers; `neighbours`: whether the law reads neighbours.
+    pub fn new(neighbours: bool) -> Self {
         Self {
-            navigation: vec![RelativeStateHill::default(); n],
-            x: vec![0.0; n],
-            y: vec![0.0; n],
-            z: vec![0.0; n],
-            grid: NeighbourGrid::new(),
-            phases_rad: Vec::new(),
-            ring: RingOrder::new(),
-            neighbours,
+            navigation: Vec::new(),
+            grids: SensingGrid {
+                x: Vec::new(),
+                y: Vec::new(),
+                z: Vec::new(),
+                grid: NeighbourGrid::new(),
+                phases_rad: Vec::new(),
+                ring: RingOrder::new(),
+                neighbours,
+            },
         }
     }
+}
 
+impl SensingGrid {
     /// Rebuilds the grid over the positions of `states` (one per storage index) with radius
     /// `range_m`, each cell's satellites stored by `ranks` (their ids; `None`: by storage index), and
     /// returns its cell order; `None`, with the grid empty, when a position is not finite.
@@ -248,33 +259,32 @@ impl<'a> Plant<'a> {
     }
 
     /// A whole-swarm view over the navigation states, in storage order (truth plus `noise` when given,
-    /// both by storage index), with the sensing grid rebuilt over those positions.
+    /// both by storage index; the truth itself, not a copy, without noise), with the sensing grid
+    /// rebuilt over those positions.
     pub fn view<'s>(
         &'s self,
         time_s: f64,
-        truth: &[RelativeStateHill],
+        truth: &'s [RelativeStateHill],
         noise: Option<&[[f64; 6]]>,
         sensed: &'s mut Sensed,
     ) -> SwarmView<'s> {
-        let navigation = &mut sensed.navigation;
-        match noise {
-            Some(noise) => navigation
-                .par_iter_mut()
-                .with_min_len(CHUNK)
-                .zip(truth.par_iter().zip(noise.par_iter()))
-                .for_each(|(nav, (rel, e))| {
-                    nav.position_m = rel.position_m + Vector3::new(e[0], e[1], e[2]);
-                    nav.velocity_mps = rel.velocity_mps + Vector3::new(e[3], e[4], e[5]);
-                }),
-            None => navigation.copy_from_slice(truth),
-        }
         let fleet = self.fleet;
-        self.view_of_navigation(
-            time_s,
-            sensed,
-            (&fleet.masses_kg, &fleet.active, &fleet.links_up),
-            fleet.order.placement(),
-        )
+        let flags = (&fleet.masses_kg[..], &fleet.active[..], &fleet.links_up[..]);
+        let placement = fleet.order.placement();
+        let Sensed { navigation, grids } = sensed;
+        let Some(noise) = noise else {
+            return self.view_of_states(time_s, truth, grids, flags, placement);
+        };
+        navigation.resize(truth.len(), RelativeStateHill::default());
+        navigation
+            .par_iter_mut()
+            .with_min_len(CHUNK)
+            .zip(truth.par_iter().zip(noise.par_iter()))
+            .for_each(|(nav, (rel, e))| {
+                nav.position_m = rel.position_m + Vector3::new(e[0], e[1], e[2]);
+                nav.velocity_mps = rel.velocity_mps + Vector3::new(e[3], e[4], e[5]);
+            });
+        self.view_of_states(time_s, navigation, grids, flags, placement)
     }
 
     /// A whole-swarm view of the truth states (`truth` by storage index) with every slice by id, as a
@@ -283,7 +293,7 @@ impl<'a> Plant<'a> {
     pub fn view_by_id<'s>(
         &'s self,
         time_s: f64,
-        truth: &[RelativeStateHill],
+        truth: &'s [RelativeStateHill],
         sensed: &'s mut Sensed,
         by_id: &'s mut FleetById,
     ) -> SwarmView<'s> {
@@ -291,8 +301,9 @@ impl<'a> Plant<'a> {
         if order.placement().is_none() {
             return self.view(time_s, truth, None, sensed);
         }
-        sensed
-            .navigation
+        let Sensed { navigation, grids } = sensed;
+        navigation.resize(truth.len(), RelativeStateHill::default());
+        navigation
             .par_iter_mut()
             .with_min_len(CHUNK)
             .enumerate()
@@ -301,28 +312,29 @@ impl<'a> Plant<'a> {
         by_id.masses_kg = order.by_id(&fleet.masses_kg);
         by_id.active = order.by_id(&fleet.active);
         by_id.links_up = order.by_id(&fleet.links_up);
-        self.view_of_navigation(
+        self.view_of_states(
             time_s,
-            sensed,
+            navigation,
+            grids,
             (&by_id.masses_kg, &by_id.active, &by_id.links_up),
             None,
         )
     }
 
-    /// The view over `sensed.navigation` as it stands, with `fleet` (masses, active and link flags) in
-    /// the same order, `placement` saying which satellite each entry is: the grid is rebuilt over the
-    /// navigation positions (ranked by id) and masked with `active && links_up`.
-    fn view_of_navigation<'s>(
+    /// The view over the navigation states `navigation`, with `fleet` (masses, active and link flags)
+    /// in the same order, `placement` saying which satellite each entry is: the grid in `grids` is
+    /// rebuilt over the navigation positions (ranked by id) and masked with `active && links_up`.
+    fn view_of_states<'s>(
         &'s self,
         time_s: f64,
-        sensed: &'s mut Sensed,
+        navigation: &'s [RelativeStateHill],
+        grids: &'s mut SensingGrid,
         (masses_kg, active, links_up): (&'s [f64], &'s [bool], &'s [bool]),
         placement: Option<Placement<'s>>,
     ) -> SwarmView<'s> {
         let ranks = placement.map(|p| p.id_of);
         let range_m = self.config.sensing.range_m;
-        let Sensed {
-            navigation,
+        let SensingGrid {
             x,
             y,
             z,
@@ -330,7 +342,7 @@ impl<'a> Plant<'a> {
             phases_rad,
             ring,
             neighbours,
-        } = sensed;
+        } = grids;
         // A non-finite navigation position leaves the grid empty (no neighbours for this evaluation);
         // the divergence check after the segment then stops the run and names the satellite. A law
         // that reads no neighbours gets the empty grid.

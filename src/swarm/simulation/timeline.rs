@@ -166,7 +166,7 @@ impl Simulation {
             EventAction::SwitchLaw(law) => {
                 check_law_fits(&law, &self.config, self.min_mass_kg())?;
                 self.law = law;
-                self.sensed.neighbours = self.law.senses_neighbours();
+                self.sensed.grids.neighbours = self.law.senses_neighbours();
                 self.initialise_law()?;
             }
             EventAction::ThreatWarning { threat, active } => {
