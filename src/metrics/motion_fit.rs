@@ -78,6 +78,15 @@ impl FitSums {
 }
 
 impl AffineMotion {
+    /// The identity (M = I, b = 0): the residuals are the displacements.
+    pub(crate) const IDENTITY: AffineMotion = AffineMotion {
+        anchor_mean_m: Vector3::new(0.0, 0.0, 0.0),
+        shift_m: Vector3::new(0.0, 0.0, 0.0),
+        stretch: Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        contraction: 1.0,
+        norm: 1.732_050_807_568_877_2,
+    };
+
     /// The least-squares affine motion of the `n` satellites whose anchor and current positions
     /// `anchor(k)` and `now(k)` give (m, one frame), `blocks` the reusable buffer of block sums; `None`
     /// when fewer than two satellites, a satellite without an anchor or a non-finite sum.

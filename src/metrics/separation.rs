@@ -152,6 +152,9 @@ pub struct SeparationTracker {
     displacement_m: Vec<f64>,
     /// The block sums of that fit ([`AffineMotion::fit`]).
     fit_blocks: Vec<FitSums>,
+    /// Whether the plain displacement bound let too many satellites through since the last full
+    /// search, so that the fitted motion's bound is used first.
+    fitted: bool,
     /// Candidates of a narrow search: their index in the snapshot, positions and radii.
     candidates: Vec<usize>,
     candidate_x: Vec<f64>,
@@ -278,6 +281,7 @@ impl SeparationTracker {
         for anchor in &mut self.anchors {
             anchor[3] = f64::NAN;
         }
+        self.fitted = false;
         let Some(cell_m) = spacing_cell_m(x_m, y_m, z_m) else {
             // Every satellite at one point (a non-finite coordinate is refused by the grid below).
             if let Some(index) = (0..ids.len())
@@ -326,64 +330,34 @@ impl SeparationTracker {
         let (dx, dy, dz) = (x_m[ib] - x_m[ia], y_m[ib] - y_m[ia], z_m[ib] - z_m[ia]);
         let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
         let n = ids.len();
-        let anchors = &self.anchors;
-        // (Every satellite has an anchor once the fit succeeds.)
-        let anchored = |k: usize| {
-            anchors
-                .get(ids[k])
-                .filter(|a| !a[3].is_nan())
-                .map(|a| Vector3::new(a[0], a[1], a[2]))
-        };
-        let anchor_of = |k: usize| {
-            let a = anchors[ids[k]];
-            Vector3::new(a[0], a[1], a[2])
-        };
-        let now_of = |k: usize| Vector3::new(x_m[k], y_m[k], z_m[k]);
-        let Some(motion) = AffineMotion::fit(n, anchored, now_of, &mut self.fit_blocks) else {
-            return Ok(None);
-        };
-        self.displacement_m.resize(n, 0.0);
-        // Residuals from the fitted motion, their maximum and the largest coordinate magnitude, in
-        // parallel (maxima: the same values in any order). `None` when a residual is not finite (the
-        // full search then reports the position).
-        let Some((largest_m, scale_m)) = self
-            .displacement_m
-            .par_iter_mut()
-            .enumerate()
-            .with_min_len(PARALLEL_MIN_LEN)
-            .map(|(k, moved)| {
-                let (anchor, now) = (anchor_of(k), now_of(k));
-                let moved_m = motion.residual_m(&anchor, &now);
-                if !moved_m.is_finite() {
-                    return None;
+        // The plain displacement bound (M = I) first, unless it let too many through since the last
+        // full search; then the fitted motion of the swarm.
+        let mut fitted = self.fitted;
+        loop {
+            let motion = if fitted {
+                let anchors = &self.anchors;
+                let anchored = |k: usize| {
+                    anchors
+                        .get(ids[k])
+                        .filter(|a| !a[3].is_nan())
+                        .map(|a| Vector3::new(a[0], a[1], a[2]))
+                };
+                let now_of = |k: usize| Vector3::new(x_m[k], y_m[k], z_m[k]);
+                match AffineMotion::fit(n, anchored, now_of, &mut self.fit_blocks) {
+                    Some(motion) => motion,
+                    None => return Ok(None),
                 }
-                *moved = moved_m;
-                Some((moved_m, anchor.amax().max(now.amax())))
-            })
-            .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))
-        else {
-            return Ok(None);
-        };
-        if !(upper_m.is_finite() && scale_m.is_finite()) {
-            return Ok(None);
+            } else {
+                AffineMotion::IDENTITY
+            };
+            match self.select_candidates(&motion, ids, [x_m, y_m, z_m], radii_m, a_max, upper_m) {
+                None => return Ok(None),
+                Some(few) if few => break,
+                Some(_) if !fitted => fitted = true,
+                Some(_) => return Ok(None),
+            }
         }
-        let margin_m = 1e-9 * scale_m * (1.0 + motion.norm);
-        let contraction = motion.contraction;
-        let displacement_m = &self.displacement_m;
-        self.candidates.clear();
-        self.candidates.par_extend(
-            (0..n)
-                .into_par_iter()
-                .with_min_len(PARALLEL_MIN_LEN)
-                .filter(|&k| {
-                    let lower_m =
-                        contraction * anchors[ids[k]][3] - displacement_m[k] - largest_m - margin_m;
-                    lower_m <= upper_m || lower_m < radii_m[k] + a_max
-                }),
-        );
-        if self.candidates.len() > n / 4 {
-            return Ok(None);
-        }
+        self.fitted = fitted;
         let m = self.candidates.len();
         self.candidate_x.clear();
         self.candidate_y.clear();
@@ -408,6 +382,65 @@ impl SeparationTracker {
             closest_pair: (ids[self.candidates[p]], ids[self.candidates[q]]),
             ..separation
         }))
+    }
+}
+
+impl SeparationTracker {
+    /// Fills `candidates` with the satellites whose lower bound under `motion` (from the anchors to the
+    /// positions `xyz_m` now) does not exclude them from the minimum (`upper_m`) or from a collision:
+    /// `Some(true)` when they are at most a quarter of the `ids`, `Some(false)` when more, `None` when a
+    /// satellite has no anchor or a residual or `upper_m` is not finite.
+    fn select_candidates(
+        &mut self,
+        motion: &AffineMotion,
+        ids: &[usize],
+        [x_m, y_m, z_m]: [&[f64]; 3],
+        radii_m: &[f64],
+        a_max: f64,
+        upper_m: f64,
+    ) -> Option<bool> {
+        let n = ids.len();
+        let anchors = &self.anchors;
+        self.displacement_m.resize(n, 0.0);
+        // Residuals from the motion, their maximum and the largest coordinate magnitude, in parallel
+        // (maxima: the same values in any order).
+        let (largest_m, scale_m) = self
+            .displacement_m
+            .par_iter_mut()
+            .enumerate()
+            .with_min_len(PARALLEL_MIN_LEN)
+            .map(|(k, moved)| {
+                let a = anchors.get(ids[k]).filter(|a| !a[3].is_nan())?;
+                let (anchor, now) = (
+                    Vector3::new(a[0], a[1], a[2]),
+                    Vector3::new(x_m[k], y_m[k], z_m[k]),
+                );
+                let moved_m = motion.residual_m(&anchor, &now);
+                if !moved_m.is_finite() {
+                    return None;
+                }
+                *moved = moved_m;
+                Some((moved_m, anchor.amax().max(now.amax())))
+            })
+            .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))?;
+        if !(upper_m.is_finite() && scale_m.is_finite()) {
+            return None;
+        }
+        let margin_m = 1e-9 * scale_m * (1.0 + motion.norm);
+        let contraction = motion.contraction;
+        let displacement_m = &self.displacement_m;
+        self.candidates.clear();
+        self.candidates.par_extend(
+            (0..n)
+                .into_par_iter()
+                .with_min_len(PARALLEL_MIN_LEN)
+                .filter(|&k| {
+                    let lower_m =
+                        contraction * anchors[ids[k]][3] - displacement_m[k] - largest_m - margin_m;
+                    lower_m <= upper_m || lower_m < radii_m[k] + a_max
+                }),
+        );
+        Some(self.candidates.len() <= n / 4)
     }
 }
 
