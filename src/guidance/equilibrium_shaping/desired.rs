@@ -99,6 +99,7 @@ impl Tables {
 
     /// Eq. 4 attraction a_ij \[1/s\] of nodes i and j for repulsion strength `b_per_s` \[1/s\] and range
     /// `c_m2` \[m²\] (those the table was made with): tabulated, or computed as the table computes it.
+    #[inline]
     pub fn pair_attraction_per_s(&self, i: usize, j: usize, b_per_s: f64, c_m2: f64) -> f64 {
         self.pair_attractions
             .get(i, j)

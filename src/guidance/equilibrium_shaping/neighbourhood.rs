@@ -224,6 +224,7 @@ impl PairValues {
     }
 
     /// The value of the pair (i, j), `None` when the table does not hold it.
+    #[inline]
     pub fn get(&self, i: usize, j: usize) -> Option<f64> {
         let (Some(&start), Some(&end), Ok(j)) =
             (self.starts.get(i), self.starts.get(i + 1), u32::try_from(j))
