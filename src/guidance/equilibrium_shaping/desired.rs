@@ -12,7 +12,7 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 use rayon::prelude::*;
 
 use super::field::{self, EscapeRule, FieldTerm, Viscosity};
-use super::neighbourhood;
+use super::neighbourhood::{self, PairValues};
 use super::parameters::{EquilibriumShapingParameters, Escape, Strategy};
 use super::shaping::pair_attraction_per_s;
 use super::state_machine::{EsState, Mode};
@@ -85,12 +85,25 @@ pub struct Tables {
     /// the scenario defines it, Hill unit vector (`None` until the law has started, or without such a
     /// threat).
     pub common_escape_hill: Option<Vector3<f64>>,
+    /// The Eq. 4 attractions a_ij \[1/s\] of the node pairs within the sensing range (empty until the
+    /// law has started, and for strategies without the Eq. 1 field): [`Self::pair_attraction_per_s`]
+    /// looks them up instead of computing a square root and an exponential per neighbour and step.
+    pub pair_attractions: PairValues,
 }
 
 impl Tables {
     /// Desired distance δ_ij = ‖ξ_i − ξ_j‖ \[m\].
     pub fn distance_m(&self, i: usize, j: usize) -> f64 {
         (self.nodes_m[i] - self.nodes_m[j]).norm()
+    }
+
+    /// Eq. 4 attraction a_ij \[1/s\] of nodes i and j for repulsion strength `b_per_s` \[1/s\] and range
+    /// `c_m2` \[m²\] (those the table was made with): tabulated, or computed as the table computes it.
+    #[inline]
+    pub fn pair_attraction_per_s(&self, i: usize, j: usize, b_per_s: f64, c_m2: f64) -> f64 {
+        self.pair_attractions
+            .get(i, j)
+            .unwrap_or_else(|| pair_attraction_per_s(self.distance_m(i, j), b_per_s, c_m2))
     }
 
     /// Avoid coefficient b_ij \[1/s\].
@@ -184,8 +197,7 @@ pub fn desired_velocity(
     };
     match set {
         FieldSet::Pair => satellite.for_each_neighbour(|nb| {
-            let delta = tables.distance_m(i, nb.id);
-            let a = pair_attraction_per_s(delta, p.pair_b_per_s, p.pair_c_m2);
+            let a = tables.pair_attraction_per_s(i, nb.id, p.pair_b_per_s, p.pair_c_m2);
             let term =
                 field::pair_attraction_repulsion(&-nb.offset_m, a, p.pair_b_per_s, p.pair_c_m2);
             add(&mut sum, &term, &v, &nb.state.velocity_mps);

@@ -31,7 +31,8 @@
 //! so the reset only drops one tick of it.
 //!
 //! **Costs** (N nodes, k the nodes within a radius): pair terms run over the neighbours the engine's grid
-//! returns (O(N k) per step); the dock term sums over every node (O(N) per satellite), and the
+//! returns (O(N k) per step), the Eq. 1 attractions a_ij of the node pairs within the sensing range
+//! tabulated when the law starts (O(N k) memory, looked up per neighbour; [`PairValues`]); the dock term sums over every node (O(N) per satellite), and the
 //! equilibrium-shaping solve is a dense SVD of the N(N−1)/2 × 3N matrix Aᵀ, done once, which limits the
 //! strategies that use them (S1, S3, S4) to [`MAX_SHAPED_NODES`] nodes; those strategies need a sensing
 //! range covering the whole formation (the ES coefficients balance every pair at the nodes). S2's pair
@@ -51,7 +52,7 @@ pub mod shaping;
 pub mod state_machine;
 
 use crate::invalid::Invalid;
-use neighbourhood::NodePairs;
+use neighbourhood::{NodePairs, PairValues};
 use std::sync::Arc;
 
 use nalgebra::Vector3;
@@ -181,6 +182,7 @@ impl EquilibriumShaping {
             node_centroid_m: centroid,
             avoid_per_s: avoid_table,
             common_escape_hill: None,
+            pair_attractions: PairValues::default(),
         };
         let rate = fields
             .iter()
@@ -353,6 +355,25 @@ impl EquilibriumShaping {
         )))
     }
 
+    /// The Eq. 4 attractions a_ij of the node pairs within `range_m` \[m\] (the sensing range) for
+    /// strategies with the Eq. 1 field, computed as [`Tables::pair_attraction_per_s`] computes them
+    /// (empty for the other strategies). O(N k) with k the nodes within the range.
+    fn pair_attractions(
+        p: &EquilibriumShapingParameters,
+        tables: &Tables,
+        range_m: f64,
+    ) -> PairValues {
+        let paired = desired::fields_of(p.strategy)
+            .iter()
+            .any(|(set, _)| *set == FieldSet::Pair);
+        if !paired {
+            return PairValues::default();
+        }
+        PairValues::within(&tables.nodes_m, range_m, |i, j| {
+            shaping::pair_attraction_per_s(tables.distance_m(i, j), p.pair_b_per_s, p.pair_c_m2)
+        })
+    }
+
     fn largest_node_distance_m(tables: &Tables) -> f64 {
         let n = tables.nodes_m.len();
         let mut largest: f64 = 0.0;
@@ -442,6 +463,8 @@ impl GuidanceLaw for EquilibriumShaping {
         let common = Self::check_against(&self.parameters, &self.tables, &started)?;
         let mut tables = (*self.tables).clone();
         tables.common_escape_hill = common;
+        tables.pair_attractions =
+            Self::pair_attractions(&self.parameters, &tables, started.sensing_range_m);
         self.error_pairs = Arc::new(NodePairs::within(&tables.nodes_m, started.sensing_range_m));
         self.tables = Arc::new(tables);
         self.started = Some(started);
@@ -500,6 +523,8 @@ impl GuidanceLaw for EquilibriumShaping {
         let mut error_pairs = NodePairs::every(tables.nodes_m.len());
         if let Some(started) = &self.started {
             tables.common_escape_hill = Self::check_against(parameters, &tables, started)?;
+            tables.pair_attractions =
+                Self::pair_attractions(parameters, &tables, started.sensing_range_m);
             error_pairs = NodePairs::within(&tables.nodes_m, started.sensing_range_m);
         }
         self.error_pairs = Arc::new(error_pairs);

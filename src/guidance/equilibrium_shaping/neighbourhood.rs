@@ -9,6 +9,8 @@
 //!   (added back, so the bound stays an upper bound).
 //! * [`NodePairs`]: the node pairs within a radius, each node's partners in ascending index (the
 //!   record-time formation error).
+//! * [`PairValues`]: one value per node pair within a radius, tabulated once (the Eq. 1 field's
+//!   attractions a_ij, looked up per neighbour and step instead of recomputed).
 //!
 //! Nodes are Hill-frame positions \[m\].
 
@@ -170,6 +172,70 @@ impl NodePairs {
     }
 }
 
+/// Largest mean number of partners per node [`PairValues::within`] tabulates (a radius reaching more
+/// leaves the table empty: its lookups then miss and the caller computes the values, as without it).
+pub const MAX_MEAN_PARTNERS: usize = 64;
+
+/// One value per ordered node pair (i, j), j ≠ i, whose nodes are at most a radius apart: each node's
+/// partners in ascending index, found by binary search. O(N k) memory and set-up (k: partners per
+/// node), O(log k) per lookup.
+#[derive(Clone, Debug, Default)]
+pub struct PairValues {
+    /// Node i's partners and values are at `starts[i]..starts[i + 1]` (empty table: no entries).
+    starts: Vec<usize>,
+    /// Partner indices, ascending within each node's range.
+    partners: Vec<u32>,
+    /// `value(i, j)` of each entry.
+    values: Vec<f64>,
+}
+
+impl PairValues {
+    /// `value(i, j)` for the pairs of `nodes_m` (finite) at most `radius_m` \[m\] apart (the grid's
+    /// inclusion rule); empty when the radius is not finite or the pairs exceed
+    /// [`MAX_MEAN_PARTNERS`] per node on average.
+    pub fn within(
+        nodes_m: &[Vector3<f64>],
+        radius_m: f64,
+        value: impl Fn(usize, usize) -> f64,
+    ) -> Self {
+        if !radius_m.is_finite() || nodes_m.len() > u32::MAX as usize {
+            return Self::default();
+        }
+        let grid = node_grid(nodes_m, radius_m);
+        let limit = MAX_MEAN_PARTNERS.saturating_mul(nodes_m.len());
+        let mut table = Self {
+            starts: Vec::with_capacity(nodes_m.len() + 1),
+            ..Self::default()
+        };
+        table.starts.push(0);
+        for i in 0..nodes_m.len() {
+            let start = table.partners.len();
+            grid.for_each_neighbour(i, |nb| table.partners.push(nb.index as u32));
+            if table.partners.len() > limit {
+                return Self::default();
+            }
+            table.partners[start..].sort_unstable();
+            for &j in &table.partners[start..] {
+                table.values.push(value(i, j as usize));
+            }
+            table.starts.push(table.partners.len());
+        }
+        table
+    }
+
+    /// The value of the pair (i, j), `None` when the table does not hold it.
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> Option<f64> {
+        let (Some(&start), Some(&end), Ok(j)) =
+            (self.starts.get(i), self.starts.get(i + 1), u32::try_from(j))
+        else {
+            return None;
+        };
+        let e = self.partners[start..end].binary_search(&j).ok()?;
+        Some(self.values[start + e])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     //! Every query against a brute-force loop over every node pair, on clouds with planted close and
@@ -259,6 +325,27 @@ mod tests {
                 .collect();
             assert_eq!(found, brute, "radius {radius_m} m");
         }
+    }
+
+    #[test]
+    fn pair_values_hold_every_pair_within_the_radius() {
+        let nodes = cloud(300, 40.0, 9);
+        let value = |i: usize, j: usize| (i * 1000 + j) as f64;
+        let table = PairValues::within(&nodes, 6.0, value);
+        for i in 0..nodes.len() {
+            for j in 0..nodes.len() {
+                let within = j != i && (nodes[i] - nodes[j]).norm() <= 6.0;
+                let expected = within.then(|| value(i, j));
+                assert_eq!(table.get(i, j), expected, "pair ({i}, {j})");
+            }
+        }
+        assert_eq!(table.get(nodes.len(), 0), None);
+        // Beyond the mean partner cap, and at an infinite radius: nothing is tabulated.
+        assert_eq!(PairValues::within(&nodes, 1e3, value).get(0, 1), None);
+        assert_eq!(
+            PairValues::within(&nodes, f64::INFINITY, value).get(0, 1),
+            None
+        );
     }
 
     #[test]
