@@ -97,7 +97,7 @@ fn pair_row_bound_per_s(b_per_s: f64, c_m2: f64, distance_m: f64) -> f64 {
 
 /// Bound of what the Gershgorin row sums of the Eq. 1 field's stacked Jacobian at `nodes` nodes lose
 /// when every pair farther apart than `cutoff_m` \[m\] (≥ √c) is left out \[1/s\]: each left-out pair
-/// changes a row by at most twice [`pair_row_bound_per_s`] at δ (once in the own block, once in the
+/// changes a row by at most twice `pair_row_bound_per_s` at δ (once in the own block, once in the
 /// neighbour's), which is at most its value at `cutoff_m`, and a row has at most `nodes` − 1 pairs.
 pub fn pair_tail_per_s(b_per_s: f64, c_m2: f64, cutoff_m: f64, nodes: usize) -> f64 {
     2.0 * nodes.saturating_sub(1) as f64 * pair_row_bound_per_s(b_per_s, c_m2, cutoff_m)
