@@ -78,7 +78,7 @@ impl FitSums {
 }
 
 impl AffineMotion {
-    /// The identity (M = I, b = 0): the residuals are the displacements.
+    /// The identity (M = I, b = 0; ‖I‖ = √3): the residuals are the displacements.
     pub(crate) const IDENTITY: AffineMotion = AffineMotion {
         anchor_mean_m: Vector3::new(0.0, 0.0, 0.0),
         shift_m: Vector3::new(0.0, 0.0, 0.0),

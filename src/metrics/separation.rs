@@ -11,7 +11,9 @@
 //! `motion_fit`), with e_i the residual of satellite i, e_max the largest and σ a lower bound of M's
 //! smallest singular value. Then for every pair d_ij(t) ≥ σ d_ij(t_k) − e_i − e_j ≥ σ d_i(t_k) − e_i −
 //! e_max =: L_i (the plain bound with displacements is the case M = I; a swarm drifting together has
-//! residuals far below its displacements, so the bound stays tight for many more steps). The previous
+//! residuals far below its displacements, so the bound stays tight for many more steps). The plain
+//! bound is tried first, as it needs no fitting pass; the fit only once the plain bound lets too many
+//! satellites through, and from then on until the next full search. The previous
 //! closest pair's distance now, U, is an upper bound of the minimum. A pair at the minimum has both ends
 //! with L ≤ U, and a colliding pair (d_ij < a_i + a_j ≤ a_i + a_max) both ends with L_i < a_i + a_max; so
 //! the exact minimum, its lexicographically smallest pair and the collision count are those of the
@@ -351,10 +353,9 @@ impl SeparationTracker {
                 AffineMotion::IDENTITY
             };
             match self.select_candidates(&motion, ids, [x_m, y_m, z_m], radii_m, a_max, upper_m) {
-                None => return Ok(None),
-                Some(few) if few => break,
-                Some(_) if !fitted => fitted = true,
-                Some(_) => return Ok(None),
+                Some(true) => break,
+                Some(false) if !fitted => fitted = true,
+                _ => return Ok(None),
             }
         }
         self.fitted = fitted;
