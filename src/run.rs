@@ -59,9 +59,9 @@ pub fn build_simulation(scenario: &Scenario) -> Result<Simulation, RunError> {
 /// scenario asks for it (`[output] control_history`).
 pub fn build_prepared(scenario: &Scenario, prepared: Prepared) -> Result<Simulation, RunError> {
     let threshold_m = prepared.conjunction_threshold_m;
-    let mut simulation = Simulation::new(
+    let mut simulation = Simulation::from_owned(
         prepared.config,
-        &prepared.satellites,
+        prepared.satellites,
         prepared.law,
         prepared.events,
     )
@@ -329,9 +329,9 @@ pub fn run_prepared(
             .map(|k| scenario.event_key(k))
             .collect(),
     };
-    let mut simulation = Simulation::new(
+    let mut simulation = Simulation::from_owned(
         prepared.config,
-        &prepared.satellites,
+        prepared.satellites,
         prepared.law,
         prepared.events,
     )

@@ -265,17 +265,36 @@ impl NeighbourGrid {
         radius_m: f64,
         rank: Option<&[u32]>,
     ) -> Result<(), NeighbourError> {
-        self.clear();
-        if !(radius_m.is_finite() && radius_m > 0.0) {
-            return Err(NeighbourError::InvalidRadius { radius_m });
-        }
         let n = x_m.len();
         if y_m.len() != n || z_m.len() != n {
+            self.clear();
+            if !(radius_m.is_finite() && radius_m > 0.0) {
+                return Err(NeighbourError::InvalidRadius { radius_m });
+            }
             return Err(NeighbourError::LengthMismatch {
                 x: n,
                 y: y_m.len(),
                 z: z_m.len(),
             });
+        }
+        self.build_ranked_from(n, |i| [x_m[i], y_m[i], z_m[i]], radius_m, rank)
+    }
+
+    /// [`Self::build_ranked`] over `n` positions read through `position_m` (index → x, y, z \[m\]),
+    /// so a caller whose positions sit in a table of its own needs no component-wise copy.
+    ///
+    /// # Errors
+    /// Those of [`Self::build_ranked`] but the length mismatch.
+    pub(crate) fn build_ranked_from(
+        &mut self,
+        n: usize,
+        position_m: impl Fn(usize) -> [f64; 3] + Sync,
+        radius_m: f64,
+        rank: Option<&[u32]>,
+    ) -> Result<(), NeighbourError> {
+        self.clear();
+        if !(radius_m.is_finite() && radius_m > 0.0) {
+            return Err(NeighbourError::InvalidRadius { radius_m });
         }
         if let Some(rank) = rank.filter(|r| r.len() != n) {
             return Err(NeighbourError::RankLength {
@@ -289,13 +308,14 @@ impl NeighbourGrid {
         if let Some(i) = (0..n)
             .into_par_iter()
             .with_min_len(PARALLEL_MIN_LEN)
-            .position_first(|i| !(x_m[i].is_finite() && y_m[i].is_finite() && z_m[i].is_finite()))
+            .position_first(|i| !position_m(i).iter().all(|v| v.is_finite()))
         {
+            let [x_m, y_m, z_m] = position_m(i);
             return Err(NeighbourError::NonFinitePosition {
                 index: i,
-                x_m: x_m[i],
-                y_m: y_m[i],
-                z_m: z_m[i],
+                x_m,
+                y_m,
+                z_m,
             });
         }
         // The bounding box (minima and maxima: the same values whatever the split).
@@ -305,7 +325,7 @@ impl NeighbourGrid {
             .fold(
                 || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
                 |(mut lo, mut hi), i| {
-                    for (a, v) in [x_m[i], y_m[i], z_m[i]].into_iter().enumerate() {
+                    for (a, v) in position_m(i).into_iter().enumerate() {
                         lo[a] = lo[a].min(v);
                         hi[a] = hi[a].max(v);
                     }
@@ -347,8 +367,8 @@ impl NeighbourGrid {
 
         self.items.resize(n, 0);
         match self.layout {
-            GridLayout::Dense => self.sort_dense(x_m, y_m, z_m, cells as usize),
-            GridLayout::Sparse => self.sort_sparse(x_m, y_m, z_m),
+            GridLayout::Dense => self.sort_dense(n, &position_m, cells as usize),
+            GridLayout::Sparse => self.sort_sparse(n, &position_m),
         }
         if let Some(rank) = rank {
             // Within each cell (already in ascending index), by rank: nearly sorted when the storage
@@ -372,8 +392,7 @@ impl NeighbourGrid {
             .zip(self.items.par_iter())
             .with_min_len(PARALLEL_MIN_LEN)
             .for_each(|(((x, y), z), &i)| {
-                let i = i as usize;
-                (*x, *y, *z) = (x_m[i], y_m[i], z_m[i]);
+                [*x, *y, *z] = position_m(i as usize);
             });
         for (slot, &i) in self.items.iter().enumerate() {
             self.slot_of[i as usize] = slot as u32;
@@ -382,18 +401,23 @@ impl NeighbourGrid {
     }
 
     /// Counting sort by dense cell index; stable, so each cell lists its satellites in ascending index.
-    fn sort_dense(&mut self, x_m: &[f64], y_m: &[f64], z_m: &[f64], cells: usize) {
+    fn sort_dense(
+        &mut self,
+        n: usize,
+        position_m: &(impl Fn(usize) -> [f64; 3] + Sync),
+        cells: usize,
+    ) {
         self.cell_start.clear();
         self.cell_start.resize(cells + 1, 0);
         // Every satellite's cell in parallel (each on its own), then the serial counting sort.
         let mut cell_of_point = std::mem::take(&mut self.scratch_cell);
-        cell_of_point.resize(x_m.len(), 0);
+        cell_of_point.resize(n, 0);
         let grid = &*self;
         cell_of_point
             .par_iter_mut()
             .enumerate()
             .with_min_len(PARALLEL_MIN_LEN)
-            .for_each(|(i, cell)| *cell = grid.key(grid.cell_of([x_m[i], y_m[i], z_m[i]])) as u32);
+            .for_each(|(i, cell)| *cell = grid.key(grid.cell_of(position_m(i))) as u32);
         for &c in &cell_of_point {
             self.cell_start[c as usize + 1] += 1;
         }
@@ -415,10 +439,10 @@ impl NeighbourGrid {
     }
 
     /// Sort of (cell key, index) pairs; keys are unique per (cell, satellite), so the order is fixed.
-    fn sort_sparse(&mut self, x_m: &[f64], y_m: &[f64], z_m: &[f64]) {
+    fn sort_sparse(&mut self, n: usize, position_m: &impl Fn(usize) -> [f64; 3]) {
         self.scratch_pairs.clear();
-        for i in 0..x_m.len() {
-            let key = self.key(self.cell_of([x_m[i], y_m[i], z_m[i]]));
+        for i in 0..n {
+            let key = self.key(self.cell_of(position_m(i)));
             self.scratch_pairs.push((key, i as u32));
         }
         self.scratch_pairs.sort_unstable();
@@ -431,7 +455,7 @@ impl NeighbourGrid {
             }
             self.items[slot] = i;
         }
-        self.cell_start.push(x_m.len() as u32);
+        self.cell_start.push(n as u32);
         self.occupied = self.cell_keys.len();
     }
 

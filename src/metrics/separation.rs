@@ -421,7 +421,12 @@ impl SeparationTracker {
                     return None;
                 }
                 *moved = moved_m;
-                Some((moved_m, anchor.amax().max(now.amax())))
+                // The largest magnitude of the six coordinates (as scalars: no vector round trip
+                // through the stack).
+                let largest = [a[1], a[2], x_m[k], y_m[k], z_m[k]]
+                    .into_iter()
+                    .fold(a[0].abs(), |m, v| m.max(v.abs()));
+                Some((moved_m, largest))
             })
             .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))?;
         if !(upper_m.is_finite() && scale_m.is_finite()) {

@@ -180,6 +180,31 @@ impl Simulation {
         law: Law,
         events: Vec<Event>,
     ) -> Result<Self, SimError> {
+        Self::assemble(config, satellites, law, events)?.start()
+    }
+
+    /// [`Simulation::new`] from satellites the caller no longer needs: they are dropped once their
+    /// columns are built, before the law is initialised (a million satellites' descriptions are 168 MB,
+    /// not held at the set-up's peak).
+    pub(crate) fn from_owned(
+        config: SimulationConfig,
+        satellites: Vec<SatelliteInit>,
+        law: Law,
+        events: Vec<Event>,
+    ) -> Result<Self, SimError> {
+        let sim = Self::assemble(config, &satellites, law, events)?;
+        drop(satellites);
+        sim.start()
+    }
+
+    /// The checks and columns of [`Simulation::new`], before the truth, the events at t = 0 and the law's
+    /// initialisation ([`Simulation::start`]).
+    fn assemble(
+        config: SimulationConfig,
+        satellites: &[SatelliteInit],
+        law: Law,
+        events: Vec<Event>,
+    ) -> Result<Self, SimError> {
         let n = satellites.len();
         if n == 0 {
             return Err(SimError::NoSatellites);
@@ -270,7 +295,7 @@ impl Simulation {
             .copied()
             .fold(f64::INFINITY, f64::min);
         check_law_fits(&law, &config, min_mass)?;
-        let mut sim = Self {
+        Ok(Self {
             reference_stepper: Stepper::new(config.integrator, 6, config.tolerances, config.step_s),
             tracked: tracked::TrackedStates::new(&config),
             integration,
@@ -303,7 +328,7 @@ impl Simulation {
                     as usize,
             ),
             monitors: Monitors {
-                live: LiveMetrics::new(n),
+                live: LiveMetrics::new(),
                 approach: ApproachMonitor::new(n, config.threats.len(), config.obstacles.len()),
                 truth_previous: if config.threats.is_empty() && config.obstacles.is_empty() {
                     Vec::new()
@@ -329,13 +354,19 @@ impl Simulation {
             timings: StageTimings::default(),
             reference_model,
             config,
-        };
+        })
+    }
+
+    /// The simulation at t = 0: the truth, the real objects placed, the events due and the law
+    /// initialised.
+    fn start(mut self) -> Result<Self, SimError> {
+        let sim = &mut self;
         sim.refresh_truth(0.0);
         sim.place_tracked_objects(0.0, None)?;
         sim.apply_due_events()?;
         sim.initialise_law()?;
         sim.apply_condition_events()?;
-        Ok(sim)
+        Ok(self)
     }
 
     /// The configuration.
@@ -402,12 +433,16 @@ impl Simulation {
             .flatten()
     }
 
-    /// How many times each satellite's drag area changed, by id.
+    /// How many times each satellite's drag area changed, by id (zeros without drag attitudes).
     pub fn drag_switches(&self) -> Vec<u64> {
-        self.satellites
-            .fleet
-            .order
-            .by_id(&self.satellites.drag_switches)
+        if self.has_drag_attitudes() {
+            self.satellites
+                .fleet
+                .order
+                .by_id(&self.satellites.drag_switches)
+        } else {
+            vec![0; self.satellites.fleet.active.len()]
+        }
     }
 
     /// Current time, seconds since the scenario start \[s\].

@@ -15,9 +15,9 @@ use rayon::prelude::*;
 use crate::swarm::simulation::satellites::Fleet;
 use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::Origin;
-use crate::swarm::simulation::{Divergence, SimError, Simulation};
+use crate::swarm::simulation::{Divergence, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
-use crate::swarm::storage_order::permute;
+use crate::swarm::storage_order::{permute, StorageOrder};
 use crate::swarm::Law;
 
 /// The truth monitors' own state: the live metrics' buffers, the continuous threat and obstacle
@@ -57,13 +57,16 @@ pub(super) struct OriginStates {
     pub member_offset_hill: RelativeStateHill,
 }
 
-/// Buffers of the separation and five-element metrics over the live satellites. Allocated once.
+/// Buffers of the separation and five-element metrics over the live satellites, allocated at their first
+/// use (not at the set-up's peak), then kept.
 pub(super) struct LiveMetrics {
     /// Storage indices of the live satellites, ascending (the separation tracker's ids).
     indices: Vec<usize>,
     x: Vec<f64>,
     y: Vec<f64>,
     z: Vec<f64>,
+    /// The live satellites' radii \[m\] when some satellite is not live (empty otherwise: the fleet's
+    /// own column is read).
     radii_m: Vec<f64>,
     tracker: SeparationTracker,
     pub workspace: FiveElementsWorkspace,
@@ -80,13 +83,13 @@ impl LiveMetrics {
         );
     }
 
-    pub fn new(n: usize) -> Self {
+    pub fn new() -> Self {
         Self {
-            indices: Vec::with_capacity(n),
-            x: Vec::with_capacity(n),
-            y: Vec::with_capacity(n),
-            z: Vec::with_capacity(n),
-            radii_m: Vec::with_capacity(n),
+            indices: Vec::new(),
+            x: Vec::new(),
+            y: Vec::new(),
+            z: Vec::new(),
+            radii_m: Vec::new(),
             tracker: SeparationTracker::new(),
             workspace: FiveElementsWorkspace::new(),
         }
@@ -96,13 +99,28 @@ impl LiveMetrics {
 impl Simulation {
     /// Runs every truth monitor on the segment that ended now and started at `t0_s`.
     pub(super) fn monitor(&mut self, t0_s: f64) -> Result<(), SimError> {
-        self.check_divergence()?;
-        let (separation, collisions) = live_separation(
+        let diverged = divergence_check(
+            &self.config,
+            self.state.as_slice(),
+            self.state.n(),
+            &self.satellites.fleet.order,
+        );
+        if let Some((satellite, reason)) = self.monitors.live.gather(
             &self.satellites.truth,
             &self.satellites.fleet.active,
             &self.satellites.fleet.radii_m,
-            &mut self.monitors.live,
-        );
+            diverged,
+        ) {
+            return Err(SimError::Diverged {
+                satellite,
+                time_s: self.clock.time_s,
+                reason,
+            });
+        }
+        let (separation, collisions) = self
+            .monitors
+            .live
+            .separation(&self.satellites.fleet.radii_m);
         self.totals.min_separation_m = self.totals.min_separation_m.min(separation);
         self.totals.max_collisions = self.totals.max_collisions.max(collisions);
         self.totals.collision_pair_samples += collisions;
@@ -241,51 +259,46 @@ impl Simulation {
         }
         Ok(())
     }
+}
 
-    fn check_divergence(&self) -> Result<(), SimError> {
-        let bound = self.config.max_distance_m;
-        let diverged = |i: usize| -> Option<Divergence> {
-            if !self.satellites.fleet.active[i] {
-                return None;
-            }
-            let rel = &self.satellites.truth[i];
+/// Why the live satellite at storage index `i` (truth relative state `rel`) stops the run, with its id:
+/// a non-finite state, a distance from the origin beyond `config.max_distance_m`, or a position below the
+/// atmosphere's floor (inertial models with drag; `data` is the flat state of the `n` satellites
+/// in the storage order `order`).
+fn divergence_check<'a>(
+    config: &'a SimulationConfig,
+    data: &'a [f64],
+    n: usize,
+    order: &'a StorageOrder,
+) -> impl Fn(usize, &RelativeStateHill) -> Option<(usize, Divergence)> + Sync + 'a {
+    let bound = config.max_distance_m;
+    // Only an atmosphere has a floor: without one, no satellite's inertial position is read.
+    let forces = config.dynamics.forces().filter(|f| f.drag().is_some());
+    move |i, rel| {
+        let reason = {
             let finite = rel.position_m.iter().all(|v| v.is_finite())
                 && rel.velocity_mps.iter().all(|v| v.is_finite());
-            if !finite {
-                return Some(Divergence::NotFinite);
-            }
             let distance_m = rel.position_m.norm();
-            if distance_m > bound {
-                return Some(Divergence::TooFar {
+            if !finite {
+                Some(Divergence::NotFinite)
+            } else if distance_m > bound {
+                Some(Divergence::TooFar {
                     distance_m,
                     limit_m: bound,
-                });
-            }
-            let forces = self.config.dynamics.forces()?;
-            let (position_m, _) = satellite_of(self.state.as_slice(), self.state.n(), i);
-            forces
-                .below_floor(&position_m)
-                .map(|(altitude_m, floor_m)| Divergence::BelowAtmosphere {
-                    altitude_m,
-                    floor_m,
                 })
+            } else {
+                forces.and_then(|forces| {
+                    let (position_m, _) = satellite_of(data, n, i);
+                    forces
+                        .below_floor(&position_m)
+                        .map(|(altitude_m, floor_m)| Divergence::BelowAtmosphere {
+                            altitude_m,
+                            floor_m,
+                        })
+                })
+            }
         };
-        // Scanned in storage order; the diverged satellite with the smallest id is named, whatever the
-        // storage order.
-        let order = &self.satellites.fleet.order;
-        let first = (0..self.satellites.truth.len())
-            .into_par_iter()
-            .with_min_len(CHUNK)
-            .filter_map(|i| diverged(i).map(|reason| (order.id_at(i), reason)))
-            .min_by_key(|(id, _)| *id);
-        match first {
-            Some((satellite, reason)) => Err(SimError::Diverged {
-                satellite,
-                time_s: self.clock.time_s,
-                reason,
-            }),
-            None => Ok(()),
-        }
+        reason.map(|reason| (order.id_at(i), reason))
     }
 }
 
@@ -320,33 +333,68 @@ pub(super) fn live_separation(
     radii_m: &[f64],
     live: &mut LiveMetrics,
 ) -> (f64, usize) {
-    live.indices.clear();
-    live.indices
-        .extend((0..relative.len()).filter(|&i| active[i]));
-    let m = live.indices.len();
-    for buffer in [&mut live.x, &mut live.y, &mut live.z, &mut live.radii_m] {
-        buffer.resize(m, 0.0);
+    let unchecked = |_: usize, _: &RelativeStateHill| None::<(usize, ())>;
+    live.gather(relative, active, radii_m, unchecked);
+    live.separation(radii_m)
+}
+
+impl LiveMetrics {
+    /// Gathers the live satellites' positions (by storage index: `relative`, `active`) in parallel, and
+    /// in the same pass runs `check` on each live satellite (its storage index and relative state;
+    /// `Some((id, why))` to report it): returns the report with the smallest id, whatever the storage
+    /// order and thread count. Their radii (`radii_m`, by storage index) are gathered only when some
+    /// satellite is not live.
+    fn gather<R: Send>(
+        &mut self,
+        relative: &[RelativeStateHill],
+        active: &[bool],
+        radii_m: &[f64],
+        check: impl Fn(usize, &RelativeStateHill) -> Option<(usize, R)> + Sync,
+    ) -> Option<(usize, R)> {
+        self.indices.clear();
+        self.indices
+            .extend((0..relative.len()).filter(|&i| active[i]));
+        let m = self.indices.len();
+        for buffer in [&mut self.x, &mut self.y, &mut self.z] {
+            buffer.resize(m, 0.0);
+        }
+        self.radii_m.clear();
+        if m < relative.len() {
+            self.radii_m
+                .extend(self.indices.iter().map(|&i| radii_m[i]));
+        }
+        // Each slot on its own; the reports reduced to the smallest id.
+        self.x
+            .par_iter_mut()
+            .zip(self.y.par_iter_mut())
+            .zip(self.z.par_iter_mut())
+            .zip(self.indices.par_iter())
+            .with_min_len(CHUNK)
+            .filter_map(|(((x, y), z), &i)| {
+                let rel = &relative[i];
+                let p = rel.position_m;
+                (*x, *y, *z) = (p.x, p.y, p.z);
+                check(i, rel)
+            })
+            .min_by_key(|(id, _)| *id)
     }
-    // The live satellites' positions and radii, gathered in parallel (each slot on its own).
-    let indices = &live.indices;
-    live.x
-        .par_iter_mut()
-        .zip(live.y.par_iter_mut())
-        .zip(live.z.par_iter_mut())
-        .zip(live.radii_m.par_iter_mut())
-        .zip(indices.par_iter())
-        .with_min_len(CHUNK)
-        .for_each(|((((x, y), z), radius), &i)| {
-            let p = relative[i].position_m;
-            (*x, *y, *z, *radius) = (p.x, p.y, p.z, radii_m[i]);
-        });
-    match live
-        .tracker
-        .update(&live.indices, &live.x, &live.y, &live.z, &live.radii_m)
-    {
-        Ok(sep) => (sep.min_distance_m, sep.collisions),
-        Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
-        Err(_) => (f64::NAN, 0),
+
+    /// The minimum separation \[m\] and collision count of the positions last gathered
+    /// ([`live_separation`]), with the fleet's radii `radii_m` \[m\] (by storage index) given again.
+    fn separation(&mut self, radii_m: &[f64]) -> (f64, usize) {
+        let radii_m = if self.indices.len() == radii_m.len() {
+            radii_m
+        } else {
+            &self.radii_m
+        };
+        match self
+            .tracker
+            .update(&self.indices, &self.x, &self.y, &self.z, radii_m)
+        {
+            Ok(sep) => (sep.min_distance_m, sep.collisions),
+            Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
+            Err(_) => (f64::NAN, 0),
+        }
     }
 }
 
@@ -375,5 +423,41 @@ pub(super) fn check_commands(
             law: law.name().to_string(),
             command: [u.x, u.y, u.z],
         }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at_x(x: f64) -> RelativeStateHill {
+        RelativeStateHill {
+            position_m: Vector3::new(x, 0.0, 0.0),
+            velocity_mps: Vector3::zeros(),
+        }
+    }
+
+    /// Four satellites on a line with radii of their own: the pairs (0, 1) and (1, 2) touch. With
+    /// satellite 1 removed nothing touches; reading satellite 1's radius for satellite 2 (a radius taken
+    /// by live rank instead of storage index) would make (0, 2) touch.
+    #[test]
+    fn live_separation_reads_each_live_satellites_own_radius() {
+        let relative: Vec<_> = [0.0, 1.0, 1.5, 4.0].map(at_x).to_vec();
+        let radii_m = [0.1, 2.0, 0.8, 1.0];
+        let mut live = LiveMetrics::new();
+        let all = live_separation(&relative, &[true; 4], &radii_m, &mut live);
+        assert_eq!(all, (0.5, 2));
+        let without_1 = [true, false, true, true];
+        for metrics in [&mut live, &mut LiveMetrics::new()] {
+            assert_eq!(
+                live_separation(&relative, &without_1, &radii_m, metrics),
+                (1.5, 0)
+            );
+        }
+        // And back to every satellite live: the fleet's own radii again.
+        assert_eq!(
+            live_separation(&relative, &[true; 4], &radii_m, &mut live),
+            (0.5, 2)
+        );
     }
 }

@@ -337,7 +337,6 @@ mod tests {
     use super::*;
     use crate::dynamics::{ForceSet, ForcesConfig, PhysicalProperties};
     use crate::orbit::{EarthModel, GravityModel};
-    use crate::swarm::simulation::satellites::Surfaces;
     use crate::swarm::storage_order::StorageOrder;
     use crate::swarm::Actuator;
 
@@ -387,10 +386,10 @@ mod tests {
             .collect();
         let fleet = Fleet {
             masses_kg: properties.iter().map(|p| p.mass_kg).collect(),
-            surfaces: properties.iter().map(Surfaces::of).collect(),
+            surfaces: Fleet::surfaces_of(properties.iter().copied(), true),
             radii_m: vec![0.0; n],
             actuators: vec![Actuator::new(f64::INFINITY, crate::swarm::LimitKind::Norm); n],
-            drag_attitudes: vec![None; n],
+            drag_attitudes: Vec::new(),
             active,
             links_up: vec![true; n],
             order: StorageOrder::identity(n),

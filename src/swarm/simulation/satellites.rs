@@ -19,11 +19,14 @@ use crate::swarm::storage_order::{permute, StorageOrder};
 /// Per-satellite properties that change only through events, as structure-of-arrays.
 pub(in crate::swarm::simulation) struct Fleet {
     pub masses_kg: Vec<f64>,
-    /// What force models read besides the mass (drag and SRP areas and coefficients).
+    /// What force models read besides the mass (drag and SRP areas and coefficients): one entry for
+    /// the whole fleet when every satellite has the same and none has drag attitudes (no area can
+    /// change), else one per satellite ([`Fleet::surfaces_of`]).
     pub surfaces: Vec<Surfaces>,
     pub radii_m: Vec<f64>,
     pub actuators: Vec<Actuator>,
-    /// The drag areas a law may command (`None`: fixed area).
+    /// The drag areas a law may command (`None`: fixed area); empty when no satellite has drag
+    /// attitudes, as are the drag columns of [`Satellites`].
     pub drag_attitudes: Vec<Option<DragAttitudes>>,
     /// `false` once a satellite is removed.
     pub active: Vec<bool>,
@@ -55,13 +58,37 @@ impl Surfaces {
 }
 
 impl Fleet {
+    /// The surfaces of every satellite, in id order: one entry for the fleet when they are all the
+    /// same and `areas_fixed` (no drag attitudes), else one per satellite.
+    pub fn surfaces_of(
+        properties: impl Iterator<Item = PhysicalProperties>,
+        areas_fixed: bool,
+    ) -> Vec<Surfaces> {
+        let mut surfaces: Vec<Surfaces> = properties.map(|p| Surfaces::of(&p)).collect();
+        if areas_fixed && surfaces.windows(2).all(|w| w[0] == w[1]) {
+            surfaces.truncate(1);
+            surfaces.shrink_to_fit();
+        }
+        surfaces
+    }
+
+    /// The surfaces of the satellite at storage index `index`.
+    #[inline]
+    fn surfaces(&self, index: usize) -> &Surfaces {
+        match self.surfaces.as_slice() {
+            [fleet] => fleet,
+            each => &each[index],
+        }
+    }
+
     /// The drag area of the satellite at storage index `index` \[m^2\].
     #[inline]
     pub fn drag_area_m2(&self, index: usize) -> f64 {
-        self.surfaces[index].drag_area_m2
+        self.surfaces(index).drag_area_m2
     }
 
-    /// Sets the drag area of the satellite at storage index `index` \[m^2\] (a drag command).
+    /// Sets the drag area of the satellite at storage index `index` \[m^2\] (a drag command: the
+    /// fleet has drag attitudes, so one surface entry per satellite).
     #[inline]
     pub fn set_drag_area_m2(&mut self, index: usize, area_m2: f64) {
         self.surfaces[index].drag_area_m2 = area_m2;
@@ -70,7 +97,7 @@ impl Fleet {
     /// The physical properties of the satellite at storage index `index`.
     #[inline]
     pub fn properties(&self, index: usize) -> PhysicalProperties {
-        let s = &self.surfaces[index];
+        let s = self.surfaces(index);
         PhysicalProperties {
             mass_kg: self.masses_kg[index],
             drag_area_m2: s.drag_area_m2,
@@ -87,13 +114,17 @@ impl Fleet {
         let n = satellites.len();
         Self {
             masses_kg: satellites.iter().map(|s| s.properties.mass_kg).collect(),
-            surfaces: satellites
-                .iter()
-                .map(|s| Surfaces::of(&s.properties))
-                .collect(),
+            surfaces: Fleet::surfaces_of(
+                satellites.iter().map(|s| s.properties),
+                satellites.iter().all(|s| s.drag_attitudes.is_none()),
+            ),
             radii_m: satellites.iter().map(|s| s.radius_m).collect(),
             actuators: satellites.iter().map(|s| s.actuator).collect(),
-            drag_attitudes: satellites.iter().map(|s| s.drag_attitudes).collect(),
+            drag_attitudes: if satellites.iter().any(|s| s.drag_attitudes.is_some()) {
+                satellites.iter().map(|s| s.drag_attitudes).collect()
+            } else {
+                Vec::new()
+            },
             active: vec![true; n],
             links_up: vec![true; n],
             order: StorageOrder::identity(n),
@@ -115,7 +146,8 @@ pub(in crate::swarm::simulation) struct Satellites {
     pub commanded_hill: Vec<Vector3<f64>>,
     /// Held command in the dynamics frame (ECI or Hill), sampled mode, process noise included.
     pub held_control: Vec<Vector3<f64>>,
-    /// When each satellite's drag area last changed \[s\] (−∞: never), for the minimum dwell.
+    /// When each satellite's drag area last changed \[s\] (−∞: never), for the minimum dwell. This
+    /// and the two drag columns below are empty when no satellite has drag attitudes.
     pub drag_changed_s: Vec<f64>,
     /// How many times each satellite's drag area changed.
     pub drag_switches: Vec<u64>,
@@ -131,15 +163,21 @@ impl Satellites {
     /// The table of `satellites` at t = 0 (truth computed by the caller).
     pub fn new(satellites: &[SatelliteInit]) -> Self {
         let n = satellites.len();
+        let fleet = Fleet::new(satellites);
+        let drag_n = if fleet.drag_attitudes.is_empty() {
+            0
+        } else {
+            n
+        };
         Self {
-            fleet: Fleet::new(satellites),
+            fleet,
             truth: vec![RelativeStateHill::default(); n],
             applied_hill: vec![Vector3::zeros(); n],
             commanded_hill: Vec::new(),
             held_control: vec![Vector3::zeros(); n],
-            drag_changed_s: vec![f64::NEG_INFINITY; n],
-            drag_switches: vec![0; n],
-            drag_delta_v_mps: vec![0.0; n],
+            drag_changed_s: vec![f64::NEG_INFINITY; drag_n],
+            drag_switches: vec![0; drag_n],
+            drag_delta_v_mps: vec![0.0; drag_n],
             commands_zero: true,
         }
     }
@@ -181,13 +219,17 @@ impl Satellites {
             commands_zero: _,
         } = self;
         permute(masses_kg, moves, visited);
-        permute(surfaces, moves, visited);
+        if surfaces.len() > 1 {
+            permute(surfaces, moves, visited);
+        }
         permute(radii_m, moves, visited);
         permute(actuators, moves, visited);
-        permute(drag_attitudes, moves, visited);
-        permute(drag_changed_s, moves, visited);
-        permute(drag_switches, moves, visited);
-        permute(drag_delta_v_mps, moves, visited);
+        if !drag_attitudes.is_empty() {
+            permute(drag_attitudes, moves, visited);
+            permute(drag_changed_s, moves, visited);
+            permute(drag_switches, moves, visited);
+            permute(drag_delta_v_mps, moves, visited);
+        }
         permute(active, moves, visited);
         permute(links_up, moves, visited);
         permute(truth, moves, visited);
@@ -197,5 +239,54 @@ impl Satellites {
         }
         permute(held_control, moves, visited);
         order.apply(moves, visited);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn with_area(drag_area_m2: f64) -> PhysicalProperties {
+        PhysicalProperties {
+            mass_kg: 10.0,
+            drag_area_m2,
+            drag_coefficient: 2.2,
+            srp_area_m2: 0.5,
+            reflectivity_coefficient: 1.3,
+        }
+    }
+
+    /// One surfaces entry for a fleet of equal satellites whose areas cannot change; one per satellite
+    /// otherwise; and every satellite's properties read back as given either way.
+    #[test]
+    fn surfaces_are_kept_once_only_for_a_fleet_of_equal_fixed_satellites() {
+        let equal = [with_area(0.1); 5];
+        let mixed = [0.1, 0.1, 0.3, 0.1, 0.1].map(with_area);
+        for (properties, areas_fixed, entries) in [
+            (&equal, true, 1),
+            (&equal, false, 5),
+            (&mixed, true, 5),
+            (&mixed, false, 5),
+        ] {
+            let mut fleet = Fleet {
+                masses_kg: properties.iter().map(|p| p.mass_kg).collect(),
+                surfaces: Fleet::surfaces_of(properties.iter().copied(), areas_fixed),
+                radii_m: vec![0.0; 5],
+                actuators: Vec::new(),
+                drag_attitudes: Vec::new(),
+                active: vec![true; 5],
+                links_up: vec![true; 5],
+                order: StorageOrder::identity(5),
+            };
+            assert_eq!(fleet.surfaces.len(), entries);
+            for (i, p) in properties.iter().enumerate() {
+                assert_eq!(fleet.properties(i), *p);
+            }
+            if !areas_fixed {
+                fleet.set_drag_area_m2(3, 0.7);
+                assert_eq!(fleet.drag_area_m2(3), 0.7);
+                assert_eq!(fleet.drag_area_m2(2), properties[2].drag_area_m2);
+            }
+        }
     }
 }

@@ -456,7 +456,7 @@ impl Simulation {
             let (p, v) = satellite_of(data, n, i);
             altitude_sum += p.norm() - radius_m;
             live += 1;
-            if fleet.drag_attitudes[i].is_some() {
+            if matches!(fleet.drag_attitudes.get(i), Some(Some(_))) {
                 let a = drag.acceleration_eci_m_s2(&at, &p, &v, &fleet.properties(i));
                 self.satellites.drag_delta_v_mps[i] += a.norm() * period_s;
             }

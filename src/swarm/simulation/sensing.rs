@@ -16,7 +16,7 @@ use crate::swarm::law::{
 };
 use crate::swarm::simulation::config::{ControlTiming, Origin, SimulationConfig};
 use crate::swarm::simulation::satellites::Fleet;
-use crate::swarm::state::{reference_of, satellite_of};
+use crate::swarm::state::{reference_of, satellite_index, satellite_of};
 use crate::swarm::storage_order::Placement;
 
 pub(super) use crate::swarm::CHUNK;
@@ -46,12 +46,9 @@ pub(super) struct Sensed {
     pub grids: SensingGrid,
 }
 
-/// The neighbour structures over the navigation positions: those positions component-wise, the sensing
-/// grid, and the ring along the orbit.
+/// The neighbour structures over the navigation positions: the sensing grid, and the ring along the
+/// orbit.
 pub(super) struct SensingGrid {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
     pub grid: NeighbourGrid,
     /// The navigation phases along the orbit \[rad\] and the ring over them (`[sensing]
     /// ring_neighbours`; empty otherwise).
@@ -68,9 +65,6 @@ impl Sensed {
         Self {
             navigation: Vec::new(),
             grids: SensingGrid {
-                x: Vec::new(),
-                y: Vec::new(),
-                z: Vec::new(),
                 grid: NeighbourGrid::new(),
                 phases_rad: Vec::new(),
                 ring: RingOrder::new(),
@@ -90,33 +84,57 @@ impl SensingGrid {
         range_m: f64,
         ranks: Option<&[u32]>,
     ) -> Option<&[u32]> {
-        let Self { x, y, z, grid, .. } = self;
-        rebuild_grid([x, y, z], grid, states, range_m, ranks).then(|| grid.cell_order())
+        let grid = &mut self.grid;
+        rebuild_grid(grid, states, range_m, ranks).then(|| grid.cell_order())
     }
 }
 
-/// Rebuilds `grid` over the positions of `states` (copied component-wise into `xyz`) with radius
-/// `range_m` and each cell's satellites by `ranks`; `false`, with the grid empty, when a position is not
-/// finite.
+/// Rebuilds `grid` over the positions of `states` with radius `range_m` and each cell's satellites by
+/// `ranks`; `false`, with the grid empty, when a position is not finite.
 fn rebuild_grid(
-    [x, y, z]: [&mut Vec<f64>; 3],
     grid: &mut NeighbourGrid,
     states: &[RelativeStateHill],
     range_m: f64,
     ranks: Option<&[u32]>,
 ) -> bool {
-    for axis in [&mut *x, &mut *y, &mut *z] {
-        axis.resize(states.len(), 0.0);
-    }
-    x.par_iter_mut()
-        .zip(y.par_iter_mut())
-        .zip(z.par_iter_mut())
-        .zip(states.par_iter())
-        .with_min_len(CHUNK)
-        .for_each(|(((x, y), z), rel)| {
-            (*x, *y, *z) = (rel.position_m.x, rel.position_m.y, rel.position_m.z);
+    grid.build_ranked_from(
+        states.len(),
+        |i| states[i].position_m.into(),
+        range_m,
+        ranks,
+    )
+    .is_ok()
+}
+
+/// The six component columns (x, y, z, vx, vy, vz) of the `n` satellites in the flat state `data`.
+fn satellite_components(data: &[f64], n: usize) -> [&[f64]; 6] {
+    std::array::from_fn(|k| {
+        let start = satellite_index(n, k, 0);
+        &data[start..start + n]
+    })
+}
+
+/// Calls `f` with every satellite's position and velocity (from `components`, by storage index) and
+/// its slot of `out`, in parallel over chunks: each chunk reads its six columns as slices, so the loop
+/// carries no index arithmetic or bounds checks per satellite.
+fn for_each_satellite_state<T: Send>(
+    components: &[&[f64]; 6],
+    out: &mut [T],
+    f: impl Fn(Vector3<f64>, Vector3<f64>, &mut T) + Sync,
+) {
+    out.par_chunks_mut(CHUNK)
+        .enumerate()
+        .for_each(|(chunk, out)| {
+            let start = chunk * CHUNK;
+            let [x, y, z, vx, vy, vz] = components.map(|column| &column[start..start + out.len()]);
+            for (k, slot) in out.iter_mut().enumerate() {
+                f(
+                    Vector3::new(x[k], y[k], z[k]),
+                    Vector3::new(vx[k], vy[k], vz[k]),
+                    slot,
+                );
+            }
         });
-    grid.build_ranked(x, y, z, range_m, ranks).is_ok()
 }
 
 /// What the views and the right-hand side read besides the state and the law.
@@ -217,33 +235,24 @@ impl<'a> Plant<'a> {
         relative: &mut [RelativeStateHill],
     ) -> Option<LvlhFrame> {
         let n = self.n();
+        let components = satellite_components(data, n);
         if self.config.dynamics.is_inertial() {
             let frame = self.frame(t_s, data);
-            relative
-                .par_iter_mut()
-                .with_min_len(CHUNK)
-                .enumerate()
-                .for_each(|(i, rel)| {
-                    let (p, v) = satellite_of(data, n, i);
-                    *rel = frame.to_hill(&CartesianState::new(p, v));
-                });
+            for_each_satellite_state(&components, relative, |p, v, rel| {
+                *rel = frame.to_hill(&CartesianState::new(p, v));
+            });
             Some(frame)
         } else {
             let (op, ov) = match self.config.origin {
                 Origin::VirtualReference => (Vector3::zeros(), Vector3::zeros()),
                 Origin::Member(k) => satellite_of(data, n, self.fleet.order.index_of(k)),
             };
-            relative
-                .par_iter_mut()
-                .with_min_len(CHUNK)
-                .enumerate()
-                .for_each(|(i, rel)| {
-                    let (p, v) = satellite_of(data, n, i);
-                    *rel = RelativeStateHill {
-                        position_m: p - op,
-                        velocity_mps: v - ov,
-                    };
-                });
+            for_each_satellite_state(&components, relative, |p, v, rel| {
+                *rel = RelativeStateHill {
+                    position_m: p - op,
+                    velocity_mps: v - ov,
+                };
+            });
             None
         }
     }
@@ -335,9 +344,6 @@ impl<'a> Plant<'a> {
         let ranks = placement.map(|p| p.id_of);
         let range_m = self.config.sensing.range_m;
         let SensingGrid {
-            x,
-            y,
-            z,
             grid,
             phases_rad,
             ring,
@@ -348,7 +354,7 @@ impl<'a> Plant<'a> {
         // that reads no neighbours gets the empty grid.
         if !*neighbours {
             grid.clear();
-        } else if rebuild_grid([x, y, z], grid, navigation, range_m, ranks) {
+        } else if rebuild_grid(grid, navigation, range_m, ranks) {
             grid.mask(|i| active[i] && links_up[i]);
         }
         let ring = self
