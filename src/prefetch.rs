@@ -6,14 +6,36 @@
 /// prefetch instruction the standard library exposes).
 #[inline]
 pub(crate) fn read<T>(value: &T) {
+    line(std::ptr::from_ref(value).cast());
+}
+
+/// [`read`] for every cache line `value` spans (a value larger than a line, or one straddling two).
+#[inline]
+pub(crate) fn read_all<T>(value: &T) {
+    const LINE: usize = 64;
+    let start = std::ptr::from_ref(value).cast::<u8>();
+    let size = std::mem::size_of::<T>();
+    let mut offset = 0;
+    while offset < size {
+        line(start.wrapping_add(offset));
+        offset += LINE;
+    }
+    if size > 0 {
+        line(start.wrapping_add(size - 1));
+    }
+}
+
+/// Starts loading the cache line holding `address` into every cache level.
+#[inline]
+fn line(address: *const u8) {
     #[cfg(target_arch = "x86_64")]
     #[allow(unsafe_code)]
     // SAFETY: SSE, the intrinsic's only feature, is part of the x86-64 baseline; a prefetch never
-    // faults and reads nothing the program sees (and `value` is a valid reference anyway).
+    // faults and reads nothing the program sees (and `address` lies inside a valid value anyway).
     unsafe {
         use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-        _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(value).cast());
+        _mm_prefetch::<_MM_HINT_T0>(address.cast());
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
+    let _ = address;
 }

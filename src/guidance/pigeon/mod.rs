@@ -27,6 +27,7 @@
 //! are spheres; the law uses the 2-D distance to the centre and the sphere's radius as r^O.
 
 pub(crate) mod connectivity;
+mod links;
 pub mod parameters;
 pub mod potentials;
 pub mod switching;
@@ -45,6 +46,7 @@ pub use parameters::PigeonParameters;
 pub use potentials::{FormationPotential, ObstaclePotential};
 pub use thrust::{cw_thrust, CwThrust};
 
+use links::{contains, LinkIds};
 use parameters::invalid;
 
 /// Per-satellite output columns.
@@ -70,13 +72,14 @@ pub fn pigeon_plane(hill: &Vector3<f64>) -> Vector2<f64> {
 /// The two neighbour sets are kept in one list of 32-bit ids (satellite ids, which the sensing grid
 /// keeps below 2³²): N_i^1 sorted, then — in the hierarchical pattern only — the rest of N_i^2
 /// sorted. N_i^1 ⊆ N_i^2 always (a link needs the distance ≤ R_c^1 ≤ R_c^2), so N_i is the whole list
-/// in the hierarchical pattern and N_i^1 in the egalitarian one.
+/// in the hierarchical pattern and N_i^1 in the egalitarian one. Up to 13 ids are held in the state
+/// itself (128 bytes in all), a longer list on the heap.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PigeonState {
     /// Number of updates so far (0 before the first tick).
     pub updates: u64,
     /// N_i^1 (sorted), then N_i^2 \ N_i^1 (sorted) when `hierarchical`.
-    links: Vec<u32>,
+    links: LinkIds,
     /// Length of N_i^1 at the front of `links`.
     egalitarian_len: u32,
     /// This tick's pattern: hierarchical (`true`) or egalitarian.
@@ -106,15 +109,17 @@ impl PigeonState {
             ids.dedup();
             ids
         };
-        let mut links = to_ids(egalitarian);
-        let egalitarian_len = links.len() as u32;
+        let mut ids = to_ids(egalitarian);
+        let egalitarian_len = ids.len() as u32;
         if let Some(set) = hierarchical_set {
             let rest: Vec<u32> = to_ids(set)
                 .into_iter()
-                .filter(|j| links[..egalitarian_len as usize].binary_search(j).is_err())
+                .filter(|j| ids[..egalitarian_len as usize].binary_search(j).is_err())
                 .collect();
-            links.extend(rest);
+            ids.extend(rest);
         }
+        let mut links = LinkIds::default();
+        links.assign(&ids);
         Self {
             links,
             egalitarian_len,
@@ -125,14 +130,14 @@ impl PigeonState {
 
     /// N_i^1: the egalitarian neighbours (hysteretic), sorted ids.
     pub fn egalitarian(&self) -> &[u32] {
-        &self.links[..self.egalitarian_len as usize]
+        &self.links.as_slice()[..self.egalitarian_len as usize]
     }
 
     /// N_i^2 \ N_i^1, sorted ids: the rest of this tick's hierarchical set (empty in the egalitarian
     /// pattern).
     fn hierarchical_rest(&self) -> &[u32] {
         if self.hierarchical {
-            &self.links[self.egalitarian_len as usize..]
+            &self.links.as_slice()[self.egalitarian_len as usize..]
         } else {
             &[]
         }
@@ -157,15 +162,11 @@ impl PigeonState {
     }
 }
 
-/// Whether the sorted ids `ids` hold satellite `id`.
-fn contains(ids: &[u32], id: usize) -> bool {
-    u32::try_from(id).is_ok_and(|id| ids.binary_search(&id).is_ok())
-}
-
 thread_local! {
-    /// Per-thread buffer of the update for N_i^2 \ N_i^1 until the pattern is drawn (so the update
-    /// never allocates once the buffers have grown).
-    static HIERARCHICAL_REST: std::cell::RefCell<Vec<u32>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// Per-thread buffers of the update: N_i^1 and N_i^2 \ N_i^1 as the walk finds them, until the
+    /// pattern is drawn (so the update never allocates once the buffers have grown).
+    static UPDATE_LINKS: std::cell::RefCell<(Vec<u32>, Vec<u32>)> =
+        const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
 }
 
 /// The `pigeon` law.
@@ -279,18 +280,19 @@ impl Pigeon {
         let v_i = pigeon_plane(&own.velocity_mps);
         let dominant = self.is_dominant(satellite.id());
         let formation = self.formation_potential();
+        let (egalitarian_set, rest) = (state.egalitarian(), state.hierarchical_rest());
         let mut u = Vector2::zeros();
         satellite.for_each_neighbour(|nb| {
             let x_ij = -pigeon_plane(&nb.offset_m);
             let v_ij = v_i - pigeon_plane(&nb.state.velocity_mps);
-            let egalitarian = state.is_egalitarian(nb.id);
+            let egalitarian = contains(egalitarian_set, nb.id);
             if egalitarian {
                 let r = x_ij.norm();
                 if r > 0.0 {
                     u -= p.k_formation_per_s2 * formation.slope_m(r) * x_ij / r;
                 }
             }
-            if egalitarian || contains(state.hierarchical_rest(), nb.id) {
+            if egalitarian || contains(rest, nb.id) {
                 let leader = dominant || self.is_dominant(nb.id);
                 let w = if state.hierarchical && leader {
                     p.leader_weight
@@ -416,7 +418,7 @@ impl GuidanceLaw for Pigeon {
 
     /// Step 2 of Algorithm 1: N_i^1 (hysteresis), N_i^2, V_a,i over the previous N_i, p_h, the pattern
     /// draw, and the barrier-violation counts, in one walk over the neighbours (V_a,i sums the headings
-    /// in the walk's order), reusing the allocation of `state`.
+    /// in the walk's order), into `state` (reusing its heap list, if it has one).
     fn update_state_into(
         &self,
         satellite: &SatelliteView<'_>,
@@ -429,17 +431,18 @@ impl GuidanceLaw for Pigeon {
         let first = previous.updates == 0;
         let id = satellite.id();
         let own = satellite.own_state();
-        let mut links = std::mem::take(&mut state.links);
-        links.clear();
         let mut separation_violations = 0u64;
         // V_a,i over the previous tick's N_i (N_i^1 at the first tick), with the velocities sensed now.
         let mut headings = switching::unit_heading(&pigeon_plane(&own.velocity_mps));
         let mut members = 1usize;
-        HIERARCHICAL_REST.with_borrow_mut(|rest| {
+        let (previous_egalitarian, previous_rest) =
+            (previous.egalitarian(), previous.hierarchical_rest());
+        UPDATE_LINKS.with_borrow_mut(|(links, rest)| {
+            links.clear();
             rest.clear();
             satellite.for_each_neighbour(|nb| {
                 let r = pigeon_plane(&nb.offset_m).norm();
-                let linked = previous.is_egalitarian(nb.id);
+                let linked = contains(previous_egalitarian, nb.id);
                 let egalitarian =
                     switching::egalitarian_link(linked, r, p.egalitarian_range_m, p.link_delay_m);
                 // Grid ids are 32-bit (see `PigeonState`).
@@ -455,7 +458,7 @@ impl GuidanceLaw for Pigeon {
                 let member = if first {
                     egalitarian
                 } else {
-                    linked || contains(previous.hierarchical_rest(), nb.id)
+                    linked || contains(previous_rest, nb.id)
                 };
                 if member {
                     headings += switching::unit_heading(&pigeon_plane(&nb.state.velocity_mps));
@@ -484,9 +487,10 @@ impl GuidanceLaw for Pigeon {
                 }
             });
             let switched = !first && hierarchical != previous.hierarchical;
+            state.links.assign(links);
             *state = PigeonState {
                 updates: previous.updates + 1,
-                links,
+                links: std::mem::take(&mut state.links),
                 egalitarian_len: egalitarian_len as u32,
                 hierarchical,
                 local_order_parameter: local_order,

@@ -240,3 +240,35 @@ fn stabilisation_time_is_the_first_recording_inside_the_final_band_for_good() {
     law.mean_distance_history = vec![(10.0, 40.3), (11.0, 39.9), (12.0, 40.0)];
     assert_eq!(law.stabilisation_time_s(), Some(10.0));
 }
+
+/// A satellite linked to 18 others (more ids than a state holds inline, so the list is on the heap)
+/// keeps the links through the hysteresis band R_c^1 − R_L^1 < d ≤ R_c^1, which a satellite never
+/// linked does not get; the members' lists (18 ids each, on the heap too) hold it as well.
+#[test]
+fn hysteresis_holds_for_a_link_list_longer_than_the_inline_ids() {
+    let law = Pigeon::new(PigeonParameters {
+        egalitarian_range_m: 120.0,
+        hierarchical_range_m: 150.0,
+        ..PigeonParameters::default()
+    })
+    .unwrap();
+    // Members 0..18 on the y axis 1 m apart; satellite 18 at z = d, y = 8.5: its distances to the
+    // members lie in [d, √(d² + 8.5²)].
+    let scene = |d: f64| {
+        let mut states: Vec<RelativeStateHill> = (0..18)
+            .map(|k| state(Vector3::new(0.0, f64::from(k), 0.0), Vector3::zeros()))
+            .collect();
+        states.push(state(Vector3::new(0.0, 8.5, d), Vector3::zeros()));
+        Scene::new(states)
+    };
+    let members: Vec<u32> = (0..18).collect();
+    let linked = step(&law, &scene(100.0), &vec![PigeonState::default(); 19], 0);
+    assert_eq!(linked[18].egalitarian(), members.as_slice());
+    let kept = step(&law, &scene(115.0), &linked, 1);
+    assert_eq!(kept[18].egalitarian(), members.as_slice());
+    assert!(kept[..18].iter().all(|s| s.is_egalitarian(18)));
+    assert_eq!(kept[5].egalitarian().len(), 18);
+    let fresh = step(&law, &scene(115.0), &vec![PigeonState::default(); 19], 0);
+    assert!(fresh[18].egalitarian().is_empty());
+    assert!(fresh[..18].iter().all(|s| !s.is_egalitarian(18)));
+}

@@ -375,9 +375,13 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
                     .zip(indices.chunks(OWN_BATCH));
                 for (batch, ((states, commands), indices)) in batches.enumerate() {
                     let own = own_batch(tick, swarm, indices, chunk * CHUNK + batch * OWN_BATCH);
-                    own.iter()
-                        .flatten()
-                        .for_each(|(own, _)| law.prefetch(own.id));
+                    // The previous states are read by storage index too: scattered like the own data.
+                    own.iter().flatten().for_each(|(own, _)| {
+                        law.prefetch(own.id);
+                        if let Some(state) = previous.get(own.index) {
+                            crate::prefetch::read_all(state);
+                        }
+                    });
                     for ((state, out), (own, &index)) in
                         states.iter_mut().zip(commands).zip(own.iter().zip(indices))
                     {
