@@ -23,7 +23,7 @@ use satflock::output::oem::{self, OemMessage, OemObject};
 use satflock::output::OutputFormat;
 use satflock::output::{frames, InertialTrack};
 use satflock::propagate::{propagate, OutputFrame, PropagationSettings};
-use satflock::run::{run_scenario_with, RunError, RunOptions};
+use satflock::run::{run_prepared, RunError, RunOptions};
 use satflock::scenario::{builtin, Controller, Scenario};
 use satflock::swarm::SimError;
 
@@ -560,9 +560,11 @@ fn run(
     plots: bool,
 ) -> Result<()> {
     // Validate before anything is created on disk; say at once what the load found.
+    // Prepared once: the same preparation is handed to the run (a second one would hold two copies
+    // of every satellite's description through the run).
     let prepared = scenario.prepare().map_err(|e| usage(e.to_string()))?;
     let duration_s = prepared.config.duration_s;
-    let load_warnings = prepared.warnings;
+    let load_warnings = prepared.warnings.clone();
     for warning in &load_warnings {
         eprintln!("warning: {warning}");
     }
@@ -594,7 +596,7 @@ fn run(
         cancel: Some(cancel),
         format,
     };
-    let outcome = pool.install(|| run_scenario_with(scenario, out, &options, &mut progress));
+    let outcome = pool.install(|| run_prepared(scenario, prepared, out, &options, &mut progress));
     bar.finish_and_clear();
     // The figures, also of a run that stopped, from whatever it wrote (not when nothing was written).
     let wrote = match &outcome {

@@ -29,10 +29,11 @@ pub(super) struct HeldNoise {
     pub process_hill: Vec<Vector3<f64>>,
 }
 
-/// The fleet's flags and masses gathered into id order, for a whole-swarm view while the storage order
-/// is not the id order.
+/// The truth states, the fleet's flags and masses gathered into id order, for a whole-swarm view while
+/// the storage order is not the id order (owned by the caller, so freed with the view).
 #[derive(Default)]
 pub(super) struct FleetById {
+    states: Vec<RelativeStateHill>,
     masses_kg: Vec<f64>,
     active: Vec<bool>,
     links_up: Vec<bool>,
@@ -297,8 +298,7 @@ impl<'a> Plant<'a> {
     }
 
     /// A whole-swarm view of the truth states (`truth` by storage index) with every slice by id, as a
-    /// law's whole-swarm hooks get it: gathered into `sensed` and `by_id` unless the storage order is
-    /// the id order.
+    /// law's whole-swarm hooks get it: gathered into `by_id` unless the storage order is the id order.
     pub fn view_by_id<'s>(
         &'s self,
         time_s: f64,
@@ -310,21 +310,23 @@ impl<'a> Plant<'a> {
         if order.placement().is_none() {
             return self.view(time_s, truth, None, sensed);
         }
-        let Sensed { navigation, grids } = sensed;
-        navigation.resize(truth.len(), RelativeStateHill::default());
-        navigation
+        by_id
+            .states
+            .resize(truth.len(), RelativeStateHill::default());
+        by_id
+            .states
             .par_iter_mut()
             .with_min_len(CHUNK)
             .enumerate()
-            .for_each(|(id, nav)| *nav = truth[order.index_of(id)]);
+            .for_each(|(id, state)| *state = truth[order.index_of(id)]);
         let fleet = self.fleet;
         by_id.masses_kg = order.by_id(&fleet.masses_kg);
         by_id.active = order.by_id(&fleet.active);
         by_id.links_up = order.by_id(&fleet.links_up);
         self.view_of_states(
             time_s,
-            navigation,
-            grids,
+            &by_id.states,
+            &mut sensed.grids,
             (&by_id.masses_kg, &by_id.active, &by_id.links_up),
             None,
         )

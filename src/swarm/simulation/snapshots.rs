@@ -67,32 +67,10 @@ pub(super) fn five_elements_of(
 impl Simulation {
     /// Builds the snapshot of now and hands it to the recorder.
     pub(super) fn record(&mut self, recorder: &mut dyn Recorder) -> Result<(), SimError> {
-        // Everything the recorder gets is by id (the engine's arrays are in storage order).
-        let n = self.state.n();
-        let order = &self.satellites.fleet.order;
-        let inertial = inertial_states(&self.config, &self.state, order);
-        let ledgers: Vec<([f64; 3], f64)> = (0..n)
-            .map(|id| self.state.ledger(order.index_of(id)))
-            .collect();
-        let axes: Vec<[f64; 3]> = ledgers.iter().map(|l| l.0).collect();
-        let norms: Vec<f64> = ledgers.iter().map(|l| l.1).collect();
-        let active = order.by_id(&self.satellites.fleet.active);
-        let radii_m = order.by_id(&self.satellites.fleet.radii_m);
-        let relative_states = order.by_id(&self.satellites.truth);
-        let live: Vec<usize> = (0..n).filter(|&id| active[id]).collect();
-        let elements = five_elements_of(
-            &live,
-            |i| (inertial[i].position_m, inertial[i].velocity_mps),
-            |i| radii_m[i],
-            &mut self.monitors.live.workspace,
-        );
-        let (min_separation_m, collisions) = live_separation(
-            &self.satellites.truth,
-            &self.satellites.fleet.active,
-            &self.satellites.fleet.radii_m,
-            &mut self.monitors.live,
-        );
-        self.totals.final_five_elements = elements;
+        // Everything the recorder gets is by id (the engine's arrays are in storage order). What needs
+        // scratch of its own comes first (the law's metrics read a by-id view; the five elements
+        // copy the live states), so that its scratch is freed before the by-id copies below are
+        // made: a recording's peak memory is the copies, not the copies and the scratch.
         let law_metric_names = self.law.metric_names();
         let mut law_metrics = vec![0.0; law_metric_names.len()];
         if !law_metrics.is_empty() {
@@ -115,6 +93,28 @@ impl Simulation {
                 self.satellites.fleet.order.placement(),
             );
         }
+        let (min_separation_m, collisions) = live_separation(
+            &self.satellites.truth,
+            &self.satellites.fleet.active,
+            &self.satellites.fleet.radii_m,
+            &mut self.monitors.live,
+        );
+        let n = self.state.n();
+        let order = &self.satellites.fleet.order;
+        let inertial = inertial_states(&self.config, &self.state, order);
+        let active = order.by_id(&self.satellites.fleet.active);
+        let radii_m = &self.satellites.fleet.radii_m;
+        let elements = five_elements_of(
+            &(0..n).filter(|&id| active[id]).collect::<Vec<_>>(),
+            |i| (inertial[i].position_m, inertial[i].velocity_mps),
+            |i| radii_m[order.index_of(i)],
+            &mut self.monitors.live.workspace,
+        );
+        self.totals.final_five_elements = elements;
+        let (axes, norms): (Vec<[f64; 3]>, Vec<f64>) = (0..n)
+            .map(|id| self.state.ledger(order.index_of(id)))
+            .unzip();
+        let relative_states = order.by_id(&self.satellites.truth);
         let law_output_names = self.law.output_names();
         let law_outputs = self.law_outputs();
         let environment = EnvironmentSnapshot {
