@@ -9,11 +9,13 @@ pub(crate) fn read<T>(value: &T) {
     line(std::ptr::from_ref(value).cast());
 }
 
-/// [`read`] for every cache line `value` spans (a value larger than a line, or one straddling two).
+/// [`read`] for every cache line the value at `value` spans (a value larger than a line, or one
+/// straddling two). Takes a pointer, so that a value another part of the pass will write can be hinted
+/// without a reference to it; nothing is read through it.
 #[inline]
-pub(crate) fn read_all<T>(value: &T) {
+pub(crate) fn read_all<T>(value: *const T) {
     const LINE: usize = 64;
-    let start = std::ptr::from_ref(value).cast::<u8>();
+    let start = value.cast::<u8>();
     let size = std::mem::size_of::<T>();
     let mut offset = 0;
     while offset < size {

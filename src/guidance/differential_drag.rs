@@ -289,6 +289,11 @@ impl GuidanceLaw for DifferentialDrag {
         Ok(())
     }
 
+    /// The update reads only the satellite's own previous state: updated in place.
+    fn reads_neighbour_broadcasts(&self) -> bool {
+        false
+    }
+
     fn update_state(
         &self,
         satellite: &SatelliteView<'_>,

@@ -475,6 +475,11 @@ impl GuidanceLaw for EquilibriumShaping {
         Ok(())
     }
 
+    /// The update reads only the satellite's own previous state: updated in place.
+    fn reads_neighbour_broadcasts(&self) -> bool {
+        false
+    }
+
     fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
         Self::check_against(&self.parameters, &self.tables, swarm).map(|_| ())
     }

@@ -400,6 +400,11 @@ impl GuidanceLaw for Pigeon {
         Ok(())
     }
 
+    /// The update reads only the satellite's own previous state: updated in place.
+    fn reads_neighbour_broadcasts(&self) -> bool {
+        false
+    }
+
     fn check_swarm(&self, swarm: &SwarmFacts) -> Result<(), LawError> {
         Self::check_against(&self.parameters, swarm)
     }

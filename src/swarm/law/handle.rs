@@ -1,6 +1,7 @@
 //! A law as the engine holds it: [`Law`] wraps any [`GuidanceLaw`] together with the per-satellite states
 //! of every satellite (two buffers: the states of the previous tick, read by every update, and the
-//! states being written), behind one object-safe interface: the only type-erased layer. The object-safe
+//! states being written; one, updated in place, for a law that reads no neighbour's broadcast — see
+//! module `state_pass`), behind one object-safe interface: the only type-erased layer. The object-safe
 //! trait and the [`Law`] methods forwarding to it are generated from one list (`erased_law!`); the law's
 //! capabilities (module `capability`) reach the engine through the law's `as_*` accessors, each
 //! forwarded once. [`LawParameters`] carries a law's typed parameter set through the event timeline.
@@ -22,12 +23,13 @@ use std::collections::BTreeMap;
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use super::{
-    Broadcast, CommandKind, GuidanceLaw, Headline, LawContext, LawError, Neighbour, OwnSample,
-    SatelliteView, SwarmFacts, SwarmView,
-};
+use super::state_pass::StatePass;
 #[cfg(doc)]
 use super::{Centralised, CommandsDrag, Diagnostics, Reports, TargetFormation};
+use super::{
+    CommandKind, GuidanceLaw, Headline, LawContext, LawError, Neighbour, OwnSample, SatelliteView,
+    SwarmFacts, SwarmView,
+};
 use crate::swarm::storage_order::{permute, Placement};
 use crate::swarm::{Actuator, DragCommand, CHUNK};
 
@@ -222,8 +224,25 @@ struct Stateful<L: GuidanceLaw> {
     /// States after the last update, by storage index (read by commands, outputs and the next update).
     current: Vec<L::State>,
     /// Buffer the next update writes into (by storage index, or by grid slot in cell order); it holds
-    /// outdated states whose allocations the law may reuse ([`GuidanceLaw::update_state_into`]).
+    /// outdated states whose allocations the law may reuse ([`GuidanceLaw::update_state_into`]). Empty
+    /// for a law that reads no neighbour's broadcast: its states are updated in place in `current`.
     next: Vec<L::State>,
+}
+
+impl<L: GuidanceLaw> Stateful<L> {
+    /// After a buffered pass that wrote the new states into `next` by evaluation slot (the cell order
+    /// of `grid`, or the storage order for `None`): each goes to its storage index in `current`,
+    /// leaving the outdated one in `next` for reuse.
+    fn place_new_states(&mut self, grid: Option<&crate::grid::NeighbourGrid>) {
+        match grid {
+            Some(grid) => {
+                for (index, state) in self.current.iter_mut().enumerate() {
+                    std::mem::swap(state, &mut self.next[grid.slot(index)]);
+                }
+            }
+            None => std::mem::swap(&mut self.current, &mut self.next),
+        }
+    }
 }
 
 /// `states` (by storage index) by id: borrowed in the identity order, gathered otherwise.
@@ -295,7 +314,12 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
             None => by_id,
             Some(p) => p.by_index(&by_id),
         };
-        self.next = self.current.clone();
+        // A law updated in place needs no second buffer.
+        self.next = if self.law.reads_neighbour_broadcasts() {
+            self.current.clone()
+        } else {
+            Vec::new()
+        };
         result
     }
 
@@ -309,39 +333,57 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         if !self.is_stateful() {
             return; // a memoryless law: nothing to update
         }
-        let Self { law, current, next } = self;
-        let previous = &*current;
-        // The satellite at entry `index` of the view's slices (the states' storage order too).
-        let update = |index: usize, out: &mut L::State| {
-            if active[index] {
-                law.update_state_into(
-                    &swarm.satellite_at(index),
-                    &Broadcast::new(index, previous),
-                    &context(index),
-                    out,
-                );
-            } else {
-                out.clone_from(&previous[index]);
-            }
-        };
         let grid = swarm.grid;
         let cells = grid.cell_order();
-        if in_cell_order && cells.len() == next.len() {
-            // `next[s]` receives the new state of the satellite in grid slot `s`...
-            next.par_iter_mut()
-                .zip(cells.par_iter())
-                .with_min_len(CHUNK)
-                .for_each(|(out, &index)| update(index as usize, out));
-            // ...and each goes to its storage index, leaving the outdated one in the slot for reuse.
-            for (index, state) in current.iter_mut().enumerate() {
-                std::mem::swap(state, &mut next[grid.slot(index)]);
+        let in_cell_order = in_cell_order && cells.len() == self.current.len();
+        let Self { law, current, next } = self;
+        let law = &*law;
+        // The satellite at entry `index` of the view's slices (the states' storage order too), in
+        // evaluation slot `slot`.
+        let evaluate = |pass: &StatePass<'_, L::State>, holder: &mut L::State, slot, index| {
+            // SAFETY: every slot of the pass is evaluated once (the slots are the positions of
+            // `cells` or of the storage order).
+            #[allow(unsafe_code)]
+            unsafe {
+                if active[index] {
+                    pass.update(slot, index, holder, |broadcast, out| {
+                        law.update_state_into(
+                            &swarm.satellite_at(index),
+                            broadcast,
+                            &context(index),
+                            out,
+                        );
+                    });
+                } else {
+                    pass.keep(slot, index);
+                }
             }
+        };
+        let in_place = !law.reads_neighbour_broadcasts();
+        let order = in_cell_order.then_some(grid);
+        let pass = if in_place {
+            StatePass::in_place(current, order)
         } else {
-            next.par_iter_mut()
-                .with_min_len(CHUNK)
+            StatePass::buffered(current, next)
+        };
+        if in_cell_order {
+            cells
+                .par_iter()
                 .enumerate()
-                .for_each(|(index, out)| update(index, out));
-            std::mem::swap(current, next);
+                .with_min_len(CHUNK)
+                .for_each_init(L::State::default, |holder, (slot, &index)| {
+                    evaluate(&pass, holder, slot, index as usize);
+                });
+        } else {
+            (0..active.len())
+                .into_par_iter()
+                .with_min_len(CHUNK)
+                .for_each_init(L::State::default, |holder, index| {
+                    evaluate(&pass, holder, index, index);
+                });
+        }
+        if !in_place {
+            self.place_new_states(order);
         }
     }
 
@@ -353,60 +395,77 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
     ) -> bool {
         let grid = swarm.grid;
         let cells = grid.cell_order();
-        if cells.len() != self.next.len() || commands_by_slot.len() != self.next.len() {
+        if cells.len() != self.current.len() || commands_by_slot.len() != self.current.len() {
             return false;
         }
+        let in_place = !self.law.reads_neighbour_broadcasts();
         let Self { law, current, next } = self;
-        let previous = &*current;
-        // `next[s]` and `commands_by_slot[s]` receive the new state and the command (before the
-        // actuator) of the satellite in grid slot `s`.
-        next.par_chunks_mut(CHUNK)
-            .zip(commands_by_slot.par_chunks_mut(CHUNK))
+        let law = &*law;
+        let pass = if in_place {
+            StatePass::in_place(current, Some(grid))
+        } else {
+            StatePass::buffered(current, next)
+        };
+        // The new state of the satellite in grid slot `s` goes where the pass puts it, and its command
+        // (before the actuator) into `commands_by_slot[s]`.
+        commands_by_slot
+            .par_chunks_mut(CHUNK)
             .zip(cells.par_chunks(CHUNK))
             .enumerate()
-            .for_each(|(chunk, ((states, commands), indices))| {
+            .for_each(|(chunk, (commands, indices))| {
                 // The buffer is taken out of the thread-local for the chunk, not borrowed across the
                 // law's calls: a law that runs rayon work of its own may have this thread pick up
                 // another chunk meanwhile, which then starts from an empty buffer instead of panicking.
                 let mut sensed = SENSED.take();
-                let batches = states
+                let mut holder = L::State::default();
+                for (batch, (commands, indices)) in commands
                     .chunks_mut(OWN_BATCH)
-                    .zip(commands.chunks_mut(OWN_BATCH))
-                    .zip(indices.chunks(OWN_BATCH));
-                for (batch, ((states, commands), indices)) in batches.enumerate() {
-                    let own = own_batch(tick, swarm, indices, chunk * CHUNK + batch * OWN_BATCH);
+                    .zip(indices.chunks(OWN_BATCH))
+                    .enumerate()
+                {
+                    let first_slot = chunk * CHUNK + batch * OWN_BATCH;
+                    let own = own_batch(tick, swarm, indices, first_slot);
                     // The previous states are read by storage index too: scattered like the own data.
                     own.iter().flatten().for_each(|(own, _)| {
                         law.prefetch(own.id);
-                        if let Some(state) = previous.get(own.index) {
-                            crate::prefetch::read_all(state);
-                        }
+                        pass.prefetch(own.index);
                     });
-                    for ((state, out), (own, &index)) in
-                        states.iter_mut().zip(commands).zip(own.iter().zip(indices))
+                    for (k, (out, (own, &index))) in
+                        commands.iter_mut().zip(own.iter().zip(indices)).enumerate()
                     {
-                        let Some((own, actuator)) = *own else {
-                            state.clone_from(&previous[index as usize]);
+                        let slot = first_slot + k;
+                        // SAFETY: every slot of the pass is evaluated once (the chunks and batches
+                        // split the slots without overlap).
+                        #[allow(unsafe_code)]
+                        let Some((own, actuator)) = *own
+                        else {
+                            unsafe { pass.keep(slot, index as usize) };
                             *out = Vector3::zeros();
                             continue;
                         };
                         swarm.satellite_with(own).collect_neighbours(&mut sensed);
                         let satellite = swarm.satellite_sensing(own, &sensed);
                         let id = own.id;
-                        law.update_state_into(
-                            &satellite,
-                            &Broadcast::new(own.index, previous),
-                            &tick.update_context(id, actuator),
-                            state,
-                        );
-                        *out = law.command(&satellite, state, &tick.command_context(id, actuator));
+                        // SAFETY: as above.
+                        #[allow(unsafe_code)]
+                        let command = unsafe {
+                            pass.update(slot, own.index, &mut holder, |broadcast, state| {
+                                law.update_state_into(
+                                    &satellite,
+                                    broadcast,
+                                    &tick.update_context(id, actuator),
+                                    state,
+                                );
+                                law.command(&satellite, state, &tick.command_context(id, actuator))
+                            })
+                        };
+                        *out = command;
                     }
                 }
                 SENSED.set(sensed);
             });
-        // Each state goes to its storage index, leaving the outdated one in the slot for reuse.
-        for (index, state) in current.iter_mut().enumerate() {
-            std::mem::swap(state, &mut next[grid.slot(index)]);
+        if !in_place {
+            self.place_new_states(Some(grid));
         }
         true
     }
@@ -494,7 +553,9 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
 
     fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
         permute(&mut self.current, moves, visited);
-        permute(&mut self.next, moves, visited);
+        if !self.next.is_empty() {
+            permute(&mut self.next, moves, visited);
+        }
     }
 
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {
@@ -587,22 +648,67 @@ mod tests {
     use crate::grid::NeighbourGrid;
     use crate::guidance::pigeon::{Pigeon, PigeonParameters, PigeonState};
     use crate::swarm::law::test_swarm::{grid_of, random_swarm, view};
-    use crate::swarm::{Actuator, LawContext, LimitKind};
+    use crate::swarm::{
+        Actuator, Broadcast, GuidanceLaw, LawContext, LawError, LimitKind, SatelliteView, SwarmView,
+    };
+    use nalgebra::Vector3;
 
     const PERIOD_S: f64 = 0.5;
 
     fn pigeon() -> Law {
-        Law::new(
-            Pigeon::new(PigeonParameters {
-                egalitarian_range_m: 50.0,
-                hierarchical_range_m: 60.0,
-                link_delay_m: 5.0,
-                desired_separation_m: 30.0,
-                min_separation_m: 10.0,
-                ..PigeonParameters::default()
-            })
-            .unwrap(),
-        )
+        Law::new(pigeon_law())
+    }
+
+    fn pigeon_law() -> Pigeon {
+        Pigeon::new(PigeonParameters {
+            egalitarian_range_m: 50.0,
+            hierarchical_range_m: 60.0,
+            link_delay_m: 5.0,
+            desired_separation_m: 30.0,
+            min_separation_m: 10.0,
+            ..PigeonParameters::default()
+        })
+        .unwrap()
+    }
+
+    /// The pigeon law without its declaration that it reads no neighbour's broadcast: the engine
+    /// updates it through two buffers, the reference for the in-place update.
+    struct Buffered(Pigeon);
+
+    impl GuidanceLaw for Buffered {
+        type State = PigeonState;
+        type Parameters = PigeonParameters;
+        fn name(&self) -> &'static str {
+            "buffered-pigeon"
+        }
+        fn initialise(
+            &mut self,
+            swarm: &SwarmView<'_>,
+            states: &mut [PigeonState],
+        ) -> Result<(), LawError> {
+            self.0.initialise(swarm, states)
+        }
+        fn update_state_into(
+            &self,
+            satellite: &SatelliteView<'_>,
+            broadcast: &Broadcast<'_, PigeonState>,
+            context: &LawContext,
+            state: &mut PigeonState,
+        ) {
+            self.0
+                .update_state_into(satellite, broadcast, context, state);
+        }
+        fn command(
+            &self,
+            satellite: &SatelliteView<'_>,
+            state: &PigeonState,
+            context: &LawContext,
+        ) -> Vector3<f64> {
+            self.0.command(satellite, state, context)
+        }
+        fn set_parameters(&mut self, parameters: &PigeonParameters) -> Result<(), LawError> {
+            self.0.set_parameters(parameters)
+        }
     }
 
     /// Every field equal, the floating-point ones bit for bit.
@@ -621,8 +727,8 @@ mod tests {
         }
     }
 
-    /// The cell-order state update gives bitwise the states of the plain id-order update: the pigeon
-    /// law (a heap-backed state rebuilt in place) over a random swarm that moves between ticks (so the
+    /// The cell-order state update gives bitwise the states of the plain id-order update, and the
+    /// in-place update those of the two-buffer one: the pigeon law (a heap-backed state rebuilt in place) over a random swarm that moves between ticks (so the
     /// grid's order changes and the outdated buffers it reuses belong to other satellites), with
     /// removed and link-cut satellites, six ticks, on 1 and 2 threads.
     #[test]
@@ -644,17 +750,26 @@ mod tests {
         };
         let mut reference = pigeon();
         let mut laws = [pigeon(), pigeon()];
+        let mut buffered = Law::new(Buffered(pigeon_law()));
         for tick in 0..6u64 {
             let grid = grid_of(&states);
             let time_s = tick as f64 * PERIOD_S;
             let swarm = view(&states, &masses_kg, &active, &links_up, &grid, time_s);
             if tick == 0 {
                 reference.initialise(&swarm, None).unwrap();
+                buffered.initialise(&swarm, None).unwrap();
                 for law in &mut laws {
                     law.initialise(&swarm, None).unwrap();
                 }
             }
             reference.update_states_in_storage_order(&swarm, &active, &|i| context(i, tick));
+            // The in-place update (the pigeon law's) gives the two-buffer update's states.
+            buffered.update_states(&swarm, &active, &|i| context(i, tick));
+            assert_same_states(
+                reference.states::<Pigeon>().unwrap(),
+                buffered.states::<Buffered>().unwrap(),
+                &format!("tick {tick}, two buffers"),
+            );
             for (threads, law) in [1, 2].into_iter().zip(&mut laws) {
                 let pool = rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)

@@ -15,7 +15,8 @@
 //! * [`Headline`] (module `headline`): a law's headline outcomes ([`Reports::headlines`]), the rows
 //!   `satflock compare` shows for it.
 //! * [`Law`] (module `handle`): a law together with the per-satellite states of every satellite, as the
-//!   engine holds it (the one type-erased layer); it runs the double-buffered state update in parallel.
+//!   engine holds it (the one type-erased layer); it runs the double-buffered (or, for a law that reads
+//!   only its own state, in-place) state update in parallel.
 //!
 //! Decentralisation is enforced by the types: a law computes one satellite's new state and command from a
 //! [`SatelliteView`] (its own navigation state, the neighbours its sensors and links reach, the threats and
@@ -34,6 +35,7 @@ mod capability;
 mod context;
 mod handle;
 mod headline;
+mod state_pass;
 #[cfg(test)]
 mod test_swarm;
 mod view;
@@ -119,7 +121,9 @@ impl LawError {
 /// tick (sampled mode) or once per integration step (continuous mode), outside the integrator's
 /// right-hand side, in parallel over satellites, and is double-buffered: satellite i's update reads its
 /// own previous state and its neighbours' previous states, never a state written in the same tick, so the
-/// result does not depend on satellite order or thread count. The command may run many times per step
+/// result does not depend on satellite order or thread count (a law that reads no neighbour's state
+/// declares it with [`GuidanceLaw::reads_neighbour_broadcasts`] and is updated in place, with the same
+/// result). The command may run many times per step
 /// (once per Runge–Kutta stage in continuous mode) and only reads the state.
 ///
 /// Implementations must be deterministic functions of their inputs: randomness comes only from
@@ -200,6 +204,15 @@ pub trait GuidanceLaw: Send + Sync + 'static {
     /// the ring); default `true`. A law that never does returns `false`, and the engine then skips
     /// building the sensing grid for its evaluations (the view's neighbour queries find nothing).
     fn senses_neighbours(&self) -> bool {
+        true
+    }
+
+    /// Whether the state update reads what neighbours broadcast ([`Broadcast::of`]); default `true`.
+    /// A law whose update reads only its own previous state ([`Broadcast::own`]) returns `false`, and
+    /// the engine then keeps one state per satellite instead of two, updating each in place (the
+    /// same states, in less memory and without the pass that moves the new states to their
+    /// satellites). Such a law must not call [`Broadcast::of`]: it panics for it.
+    fn reads_neighbour_broadcasts(&self) -> bool {
         true
     }
 

@@ -574,7 +574,9 @@ impl SatelliteView<'_> {
 #[derive(Clone, Copy)]
 pub struct Broadcast<'a, S> {
     own: &'a S,
-    previous: &'a [S],
+    /// Every satellite's previous state by storage index; `None` for a law updated in place (see
+    /// [`crate::swarm::GuidanceLaw::reads_neighbour_broadcasts`]).
+    previous: Option<&'a [S]>,
 }
 
 impl<'a, S> Broadcast<'a, S> {
@@ -583,7 +585,15 @@ impl<'a, S> Broadcast<'a, S> {
     pub(crate) fn new(index: usize, previous: &'a [S]) -> Self {
         Self {
             own: &previous[index],
-            previous,
+            previous: Some(previous),
+        }
+    }
+
+    /// The satellite's own previous state `own` alone, for a law that reads no neighbour's broadcast.
+    pub(crate) fn own_only(own: &'a S) -> Self {
+        Self {
+            own,
+            previous: None,
         }
     }
 
@@ -593,8 +603,16 @@ impl<'a, S> Broadcast<'a, S> {
     }
 
     /// What `neighbour` broadcast at the previous tick.
+    ///
+    /// # Panics
+    /// For a law that declared it reads no neighbour's broadcast
+    /// ([`crate::swarm::GuidanceLaw::reads_neighbour_broadcasts`] `false`): its states are updated in
+    /// place, so the neighbours' previous states are no longer there to read.
     pub fn of(&self, neighbour: &Neighbour) -> &'a S {
-        &self.previous[neighbour.index]
+        let previous = self
+            .previous
+            .expect("Broadcast::of called by a law whose reads_neighbour_broadcasts() is false");
+        &previous[neighbour.index]
     }
 }
 
