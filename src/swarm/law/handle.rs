@@ -728,9 +728,10 @@ mod tests {
     }
 
     /// The cell-order state update gives bitwise the states of the plain id-order update, and the
-    /// in-place update those of the two-buffer one: the pigeon law (a heap-backed state rebuilt in place) over a random swarm that moves between ticks (so the
-    /// grid's order changes and the outdated buffers it reuses belong to other satellites), with
-    /// removed and link-cut satellites, six ticks, on 1 and 2 threads.
+    /// in-place update those of the two-buffer one: the pigeon law (a heap-backed state rebuilt in
+    /// place) over a random swarm that moves between ticks (so the grid's order changes and the
+    /// outdated buffers it reuses belong to other satellites), with removed and link-cut satellites,
+    /// six ticks, on 1 and 2 threads.
     #[test]
     fn cell_order_state_update_equals_id_order_bitwise() {
         let n = 2000;

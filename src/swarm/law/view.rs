@@ -619,6 +619,37 @@ impl<'a, S> Broadcast<'a, S> {
 #[cfg(test)]
 mod tests {
     use super::OwnSample;
+
+    /// A neighbour whose broadcast sits at storage index `index`.
+    fn neighbour_at(index: usize) -> super::Neighbour {
+        super::Neighbour {
+            id: index,
+            state: crate::orbit::RelativeStateHill::default(),
+            offset_m: nalgebra::Vector3::zeros(),
+            distance_m: 0.0,
+            index,
+        }
+    }
+
+    /// Two buffers: a neighbour's broadcast is its previous state, found by its storage index.
+    #[test]
+    fn broadcast_reads_a_neighbours_previous_state() {
+        let previous = [10.0, 11.0, 12.0];
+        let broadcast = super::Broadcast::new(1, &previous);
+        assert_eq!(*broadcast.own(), 11.0);
+        assert_eq!(*broadcast.of(&neighbour_at(2)), 12.0);
+    }
+
+    /// In place, only the own previous state is there: reading a neighbour's broadcast panics
+    /// instead of returning a state that may already be this tick's.
+    #[test]
+    #[should_panic(expected = "reads_neighbour_broadcasts() is false")]
+    fn own_only_broadcast_refuses_a_neighbours_state() {
+        let own = 11.0;
+        let broadcast = super::Broadcast::own_only(&own);
+        assert_eq!(*broadcast.own(), 11.0);
+        let _ = broadcast.of(&neighbour_at(0));
+    }
     use crate::swarm::law::test_swarm::{grid_of, random_swarm, view, RANGE_M};
 
     /// A walk within a reach below the sensing range visits exactly the neighbours of the full walk
