@@ -18,6 +18,7 @@ mod motion_fit;
 pub mod separation;
 
 pub use five_elements::{five_elements, FiveElements, FiveElementsWorkspace};
+pub(crate) use separation::TrackedPositions;
 pub use separation::{min_separation, Separation, SeparationTracker};
 
 /// Why a metric could not be computed.

@@ -103,18 +103,18 @@ fn search(
     })
 }
 
-/// A grid cell edge (m) that suits an exact nearest-neighbour search over these positions: the swarm's
-/// mean spacing (cube root of bounding-box volume per satellite, flat swarms padded to a slab). `None`
-/// when every position is the same point or a coordinate is not finite (or the slices are empty).
-fn spacing_cell_m(x_m: &[f64], y_m: &[f64], z_m: &[f64]) -> Option<f64> {
-    let count = x_m.len().min(y_m.len()).min(z_m.len());
+/// A grid cell edge (m) that suits an exact nearest-neighbour search over the `count` positions
+/// `position_m(k)` (m): the swarm's mean spacing (cube root of bounding-box volume per satellite, flat
+/// swarms padded to a slab). `None` when every position is the same point or a coordinate is not
+/// finite (or there are none).
+fn spacing_cell_m(count: usize, position_m: impl Fn(usize) -> [f64; 3]) -> Option<f64> {
     if count == 0 {
         return None;
     }
     let mut low = [f64::INFINITY; 3];
     let mut high = [f64::NEG_INFINITY; 3];
     for i in 0..count {
-        for (a, v) in [x_m[i], y_m[i], z_m[i]].into_iter().enumerate() {
+        for (a, v) in position_m(i).into_iter().enumerate() {
             low[a] = low[a].min(v);
             high[a] = high[a].max(v);
         }
@@ -128,6 +128,58 @@ fn spacing_cell_m(x_m: &[f64], y_m: &[f64], z_m: &[f64]) -> Option<f64> {
     let volume: f64 = extent.iter().map(|e| e.max(floor)).product();
     let cell_m = (volume / count as f64).cbrt();
     cell_m.is_finite().then_some(cell_m)
+}
+
+/// The satellites one [`SeparationTracker`] update sees: how many, each one's id (strictly ascending
+/// in `k`) and position (m, one Cartesian frame kept across calls). The engine reads them straight
+/// from its truth states, so a snapshot needs no copy of its positions.
+pub(crate) trait TrackedPositions: Sync {
+    /// Number of satellites in the snapshot.
+    fn len(&self) -> usize;
+    /// Id of the `k`-th satellite.
+    fn id(&self, k: usize) -> usize;
+    /// Position of the `k`-th satellite (m).
+    fn position_m(&self, k: usize) -> [f64; 3];
+}
+
+/// Positions given as three columns with their ids ([`SeparationTracker::update`]); equal lengths.
+struct Columns<'a> {
+    ids: &'a [usize],
+    x_m: &'a [f64],
+    y_m: &'a [f64],
+    z_m: &'a [f64],
+}
+
+impl TrackedPositions for Columns<'_> {
+    fn len(&self) -> usize {
+        self.ids.len()
+    }
+
+    fn id(&self, k: usize) -> usize {
+        self.ids[k]
+    }
+
+    fn position_m(&self, k: usize) -> [f64; 3] {
+        [self.x_m[k], self.y_m[k], self.z_m[k]]
+    }
+}
+
+/// Index `k` of the satellite with id `id` in `positions` (ids ascending), if it is there.
+fn index_of_id(positions: &impl TrackedPositions, id: usize) -> Option<usize> {
+    let n = positions.len();
+    let k = {
+        let (mut low, mut high) = (0, n);
+        while low < high {
+            let mid = low + (high - low) / 2;
+            if positions.id(mid) < id {
+                low = mid + 1;
+            } else {
+                high = mid;
+            }
+        }
+        low
+    };
+    (k < n && positions.id(k) == id).then_some(k)
 }
 
 /// Smallest number of satellites per parallel work item of the tracker's per-satellite passes.
@@ -225,7 +277,30 @@ impl SeparationTracker {
         radii_m: &[f64],
     ) -> Result<Separation, MetricsError> {
         let n = ids.len();
-        let result = self.checked_update(ids, x_m, y_m, z_m, radii_m, n);
+        if n >= 2 {
+            for (what, got) in [("x", x_m.len()), ("y", y_m.len()), ("z", z_m.len())] {
+                if got != n {
+                    self.closest = None;
+                    return Err(MetricsError::LengthMismatch {
+                        what,
+                        expected: n,
+                        got,
+                    });
+                }
+            }
+        }
+        let columns = Columns { ids, x_m, y_m, z_m };
+        self.update_from(&columns, radii_m)
+    }
+
+    /// [`Self::update`] with the satellites' ids and positions read through `positions`
+    /// (`radii_m[k]` the radius of its `k`-th satellite, m).
+    pub(crate) fn update_from(
+        &mut self,
+        positions: &impl TrackedPositions,
+        radii_m: &[f64],
+    ) -> Result<Separation, MetricsError> {
+        let result = self.checked_update(positions, radii_m);
         if result.is_err() {
             self.closest = None;
         }
@@ -234,37 +309,25 @@ impl SeparationTracker {
 
     fn checked_update(
         &mut self,
-        ids: &[usize],
-        x_m: &[f64],
-        y_m: &[f64],
-        z_m: &[f64],
+        positions: &impl TrackedPositions,
         radii_m: &[f64],
-        n: usize,
     ) -> Result<Separation, MetricsError> {
+        let n = positions.len();
         if n < 2 {
             return Err(MetricsError::TooFewSatellites { n });
         }
-        for (what, got) in [("x", x_m.len()), ("y", y_m.len()), ("z", z_m.len())] {
-            if got != n {
-                return Err(MetricsError::LengthMismatch {
-                    what,
-                    expected: n,
-                    got,
-                });
-            }
-        }
-        if let Some(index) = (1..n).find(|&k| ids[k] <= ids[k - 1]) {
+        if let Some(index) = (1..n).find(|&k| positions.id(k) <= positions.id(k - 1)) {
             return Err(MetricsError::UnorderedIds { index });
         }
         let a_max = check_radii(radii_m, n)?;
-        let separation = match self.narrow(ids, x_m, y_m, z_m, radii_m, a_max)? {
+        let separation = match self.narrow(positions, radii_m, a_max)? {
             Some(separation) => {
                 self.narrow_searches += 1;
                 separation
             }
             None => {
                 self.full_searches += 1;
-                self.full(ids, x_m, y_m, z_m, radii_m)?
+                self.full(positions, radii_m)?
             }
         };
         self.closest = Some(separation.closest_pair);
@@ -274,40 +337,40 @@ impl SeparationTracker {
     /// A full search over every satellite; takes new anchors.
     fn full(
         &mut self,
-        ids: &[usize],
-        x_m: &[f64],
-        y_m: &[f64],
-        z_m: &[f64],
+        positions: &impl TrackedPositions,
         radii_m: &[f64],
     ) -> Result<Separation, MetricsError> {
         for anchor in &mut self.anchors {
             anchor[3] = f64::NAN;
         }
         self.fitted = false;
-        let Some(cell_m) = spacing_cell_m(x_m, y_m, z_m) else {
+        let n = positions.len();
+        let Some(cell_m) = spacing_cell_m(n, |k| positions.position_m(k)) else {
             // Every satellite at one point (a non-finite coordinate is refused by the grid below).
-            if let Some(index) = (0..ids.len())
-                .find(|&k| !(x_m[k].is_finite() && y_m[k].is_finite() && z_m[k].is_finite()))
+            if let Some(index) =
+                (0..n).find(|&k| !positions.position_m(k).iter().all(|v| v.is_finite()))
             {
                 return Err(MetricsError::NonFinite {
                     what: "position",
                     index,
                 });
             }
-            return Ok(coincident(ids, radii_m));
+            return Ok(coincident(positions, radii_m));
         };
-        self.grid.build(x_m, y_m, z_m, cell_m)?;
+        self.grid
+            .build_ranked_from(n, |k| positions.position_m(k), cell_m, None)?;
         let separation = search(&self.grid, radii_m, &mut self.nearest_m)?;
-        let top = ids[ids.len() - 1] + 1;
+        let top = positions.id(n - 1) + 1;
         if self.anchors.len() < top {
             self.anchors.resize(top, [0.0, 0.0, 0.0, f64::NAN]);
         }
-        for (k, &id) in ids.iter().enumerate() {
-            self.anchors[id] = [x_m[k], y_m[k], z_m[k], self.nearest_m[k]];
+        for k in 0..n {
+            let [x, y, z] = positions.position_m(k);
+            self.anchors[positions.id(k)] = [x, y, z, self.nearest_m[k]];
         }
         let (a, b) = separation.closest_pair;
         Ok(Separation {
-            closest_pair: (ids[a], ids[b]),
+            closest_pair: (positions.id(a), positions.id(b)),
             ..separation
         })
     }
@@ -316,22 +379,20 @@ impl SeparationTracker {
     /// satellite without an anchor, too many candidates).
     fn narrow(
         &mut self,
-        ids: &[usize],
-        x_m: &[f64],
-        y_m: &[f64],
-        z_m: &[f64],
+        positions: &impl TrackedPositions,
         radii_m: &[f64],
         a_max: f64,
     ) -> Result<Option<Separation>, MetricsError> {
         let Some((a, b)) = self.closest else {
             return Ok(None);
         };
-        let (Ok(ia), Ok(ib)) = (ids.binary_search(&a), ids.binary_search(&b)) else {
+        let (Some(ia), Some(ib)) = (index_of_id(positions, a), index_of_id(positions, b)) else {
             return Ok(None);
         };
-        let (dx, dy, dz) = (x_m[ib] - x_m[ia], y_m[ib] - y_m[ia], z_m[ib] - z_m[ia]);
+        let ([xa, ya, za], [xb, yb, zb]) = (positions.position_m(ia), positions.position_m(ib));
+        let (dx, dy, dz) = (xb - xa, yb - ya, zb - za);
         let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
-        let n = ids.len();
+        let n = positions.len();
         // The plain displacement bound (M = I) first, unless it let too many through since the last
         // full search; then the fitted motion of the swarm.
         let mut fitted = self.fitted;
@@ -340,11 +401,11 @@ impl SeparationTracker {
                 let anchors = &self.anchors;
                 let anchored = |k: usize| {
                     anchors
-                        .get(ids[k])
+                        .get(positions.id(k))
                         .filter(|a| !a[3].is_nan())
                         .map(|a| Vector3::new(a[0], a[1], a[2]))
                 };
-                let now_of = |k: usize| Vector3::new(x_m[k], y_m[k], z_m[k]);
+                let now_of = |k: usize| Vector3::from(positions.position_m(k));
                 match AffineMotion::fit(n, anchored, now_of, &mut self.fit_blocks) {
                     Some(motion) => motion,
                     None => return Ok(None),
@@ -352,7 +413,7 @@ impl SeparationTracker {
             } else {
                 AffineMotion::IDENTITY
             };
-            match self.select_candidates(&motion, ids, [x_m, y_m, z_m], radii_m, a_max, upper_m) {
+            match self.select_candidates(&motion, positions, radii_m, a_max, upper_m) {
                 Some(true) => break,
                 Some(false) if !fitted => fitted = true,
                 _ => return Ok(None),
@@ -365,22 +426,27 @@ impl SeparationTracker {
         self.candidate_z.clear();
         self.candidate_radii.clear();
         for &k in &self.candidates {
-            self.candidate_x.push(x_m[k]);
-            self.candidate_y.push(y_m[k]);
-            self.candidate_z.push(z_m[k]);
+            let [x, y, z] = positions.position_m(k);
+            self.candidate_x.push(x);
+            self.candidate_y.push(y);
+            self.candidate_z.push(z);
             self.candidate_radii.push(radii_m[k]);
         }
         let (cx, cy, cz) = (&self.candidate_x, &self.candidate_y, &self.candidate_z);
-        let separation = match spacing_cell_m(cx, cy, cz).filter(|_| m > DIRECT_PAIRS_UP_TO) {
-            Some(cell_m) => {
-                self.grid.build(cx, cy, cz, cell_m)?;
-                search(&self.grid, &self.candidate_radii, &mut self.nearest_m)?
-            }
-            None => direct(cx, cy, cz, &self.candidate_radii),
-        };
+        let separation =
+            match spacing_cell_m(m, |k| [cx[k], cy[k], cz[k]]).filter(|_| m > DIRECT_PAIRS_UP_TO) {
+                Some(cell_m) => {
+                    self.grid.build(cx, cy, cz, cell_m)?;
+                    search(&self.grid, &self.candidate_radii, &mut self.nearest_m)?
+                }
+                None => direct(cx, cy, cz, &self.candidate_radii),
+            };
         let (p, q) = separation.closest_pair;
         Ok(Some(Separation {
-            closest_pair: (ids[self.candidates[p]], ids[self.candidates[q]]),
+            closest_pair: (
+                positions.id(self.candidates[p]),
+                positions.id(self.candidates[q]),
+            ),
             ..separation
         }))
     }
@@ -388,19 +454,18 @@ impl SeparationTracker {
 
 impl SeparationTracker {
     /// Fills `candidates` with the satellites whose lower bound under `motion` (from the anchors to the
-    /// positions `xyz_m` now) does not exclude them from the minimum (`upper_m`) or from a collision:
-    /// `Some(true)` when they are at most a quarter of the `ids`, `Some(false)` when more, `None` when a
-    /// satellite has no anchor or a residual or `upper_m` is not finite.
+    /// `positions` now) does not exclude them from the minimum (`upper_m`) or from a collision:
+    /// `Some(true)` when they are at most a quarter of the satellites, `Some(false)` when more, `None`
+    /// when a satellite has no anchor or a residual or `upper_m` is not finite.
     fn select_candidates(
         &mut self,
         motion: &AffineMotion,
-        ids: &[usize],
-        [x_m, y_m, z_m]: [&[f64]; 3],
+        positions: &impl TrackedPositions,
         radii_m: &[f64],
         a_max: f64,
         upper_m: f64,
     ) -> Option<bool> {
-        let n = ids.len();
+        let n = positions.len();
         let anchors = &self.anchors;
         self.displacement_m.resize(n, 0.0);
         // Residuals from the motion, their maximum and the largest coordinate magnitude, in parallel
@@ -411,11 +476,9 @@ impl SeparationTracker {
             .enumerate()
             .with_min_len(PARALLEL_MIN_LEN)
             .map(|(k, moved)| {
-                let a = anchors.get(ids[k]).filter(|a| !a[3].is_nan())?;
-                let (anchor, now) = (
-                    Vector3::new(a[0], a[1], a[2]),
-                    Vector3::new(x_m[k], y_m[k], z_m[k]),
-                );
+                let a = anchors.get(positions.id(k)).filter(|a| !a[3].is_nan())?;
+                let [x, y, z] = positions.position_m(k);
+                let (anchor, now) = (Vector3::new(a[0], a[1], a[2]), Vector3::new(x, y, z));
                 let moved_m = motion.residual_m(&anchor, &now);
                 if !moved_m.is_finite() {
                     return None;
@@ -423,7 +486,7 @@ impl SeparationTracker {
                 *moved = moved_m;
                 // The largest magnitude of the six coordinates (as scalars: no vector round trip
                 // through the stack).
-                let largest = [a[1], a[2], x_m[k], y_m[k], z_m[k]]
+                let largest = [a[1], a[2], x, y, z]
                     .into_iter()
                     .fold(a[0].abs(), |m, v| m.max(v.abs()));
                 Some((moved_m, largest))
@@ -441,8 +504,10 @@ impl SeparationTracker {
                 .into_par_iter()
                 .with_min_len(PARALLEL_MIN_LEN)
                 .filter(|&k| {
-                    let lower_m =
-                        contraction * anchors[ids[k]][3] - displacement_m[k] - largest_m - margin_m;
+                    let lower_m = contraction * anchors[positions.id(k)][3]
+                        - displacement_m[k]
+                        - largest_m
+                        - margin_m;
                     lower_m <= upper_m || lower_m < radii_m[k] + a_max
                 }),
         );
@@ -479,12 +544,12 @@ fn direct(x_m: &[f64], y_m: &[f64], z_m: &[f64], radii_m: &[f64]) -> Separation 
 
 /// Every satellite at one point: distance 0, the first two ids, and every pair whose radii are not both
 /// zero collides.
-fn coincident(ids: &[usize], radii_m: &[f64]) -> Separation {
-    let n = ids.len();
+fn coincident(positions: &impl TrackedPositions, radii_m: &[f64]) -> Separation {
+    let n = positions.len();
     let zero = radii_m.iter().filter(|r| **r == 0.0).count();
     Separation {
         min_distance_m: 0.0,
-        closest_pair: (ids[0], ids[1]),
+        closest_pair: (positions.id(0), positions.id(1)),
         collisions: n * (n - 1) / 2 - zero * zero.saturating_sub(1) / 2,
     }
 }

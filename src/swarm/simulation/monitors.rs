@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 
 use crate::conjunction::{ConjunctionMonitor, SwarmSegment};
 use crate::environment::{closest_approach_to_threat, HermiteSegment};
-use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker};
+use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker, TrackedPositions};
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 use rayon::prelude::*;
 
@@ -58,18 +58,39 @@ pub(super) struct OriginStates {
 }
 
 /// Buffers of the separation and five-element metrics over the live satellites, allocated at their first
-/// use (not at the set-up's peak), then kept.
+/// use (not at the set-up's peak), then kept. The separation tracker reads the positions straight from
+/// the truth states: with every satellite live it needs no buffer of its own.
 pub(super) struct LiveMetrics {
-    /// Storage indices of the live satellites, ascending (the separation tracker's ids).
+    /// Storage indices of the live satellites, ascending (the separation tracker's ids), when some
+    /// satellite is not live (empty otherwise: every storage index).
     indices: Vec<usize>,
-    x: Vec<f64>,
-    y: Vec<f64>,
-    z: Vec<f64>,
     /// The live satellites' radii \[m\] when some satellite is not live (empty otherwise: the fleet's
     /// own column is read).
     radii_m: Vec<f64>,
     tracker: SeparationTracker,
     pub workspace: FiveElementsWorkspace,
+}
+
+/// The live satellites' positions as the separation tracker reads them: truth relative positions
+/// (Hill frame, m) by storage index, every satellite or only those `listed`.
+struct LivePositions<'a> {
+    relative: &'a [RelativeStateHill],
+    listed: Option<&'a [usize]>,
+}
+
+impl TrackedPositions for LivePositions<'_> {
+    fn len(&self) -> usize {
+        self.listed.map_or(self.relative.len(), <[usize]>::len)
+    }
+
+    fn id(&self, k: usize) -> usize {
+        self.listed.map_or(k, |listed| listed[k])
+    }
+
+    fn position_m(&self, k: usize) -> [f64; 3] {
+        let p = &self.relative[self.id(k)].position_m;
+        [p.x, p.y, p.z]
+    }
 }
 
 impl LiveMetrics {
@@ -86,9 +107,6 @@ impl LiveMetrics {
     pub fn new() -> Self {
         Self {
             indices: Vec::new(),
-            x: Vec::new(),
-            y: Vec::new(),
-            z: Vec::new(),
             radii_m: Vec::new(),
             tracker: SeparationTracker::new(),
             workspace: FiveElementsWorkspace::new(),
@@ -105,10 +123,9 @@ impl Simulation {
             self.state.n(),
             &self.satellites.fleet.order,
         );
-        if let Some((satellite, reason)) = self.monitors.live.gather(
+        if let Some((satellite, reason)) = first_report(
             &self.satellites.truth,
             &self.satellites.fleet.active,
-            &self.satellites.fleet.radii_m,
             diverged,
         ) {
             return Err(SimError::Diverged {
@@ -117,10 +134,12 @@ impl Simulation {
                 reason,
             });
         }
-        let (separation, collisions) = self
-            .monitors
-            .live
-            .separation(&self.satellites.fleet.radii_m);
+        let (separation, collisions) = live_separation(
+            &self.satellites.truth,
+            &self.satellites.fleet.active,
+            &self.satellites.fleet.radii_m,
+            &mut self.monitors.live,
+        );
         self.totals.min_separation_m = self.totals.min_separation_m.min(separation);
         self.totals.max_collisions = self.totals.max_collisions.max(collisions);
         self.totals.collision_pair_samples += collisions;
@@ -333,69 +352,46 @@ pub(super) fn live_separation(
     radii_m: &[f64],
     live: &mut LiveMetrics,
 ) -> (f64, usize) {
-    let unchecked = |_: usize, _: &RelativeStateHill| None::<(usize, ())>;
-    live.gather(relative, active, radii_m, unchecked);
-    live.separation(radii_m)
+    live.indices.clear();
+    live.radii_m.clear();
+    let every_one_live = active.iter().all(|&a| a);
+    if !every_one_live {
+        live.indices
+            .extend((0..relative.len()).filter(|&i| active[i]));
+        live.radii_m
+            .extend(live.indices.iter().map(|&i| radii_m[i]));
+    }
+    let positions = LivePositions {
+        relative,
+        listed: (!every_one_live).then_some(live.indices.as_slice()),
+    };
+    let radii_m = if every_one_live {
+        radii_m
+    } else {
+        &live.radii_m
+    };
+    match live.tracker.update_from(&positions, radii_m) {
+        Ok(sep) => (sep.min_distance_m, sep.collisions),
+        Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
+        Err(_) => (f64::NAN, 0),
+    }
 }
 
-impl LiveMetrics {
-    /// Gathers the live satellites' positions (by storage index: `relative`, `active`) in parallel, and
-    /// in the same pass runs `check` on each live satellite (its storage index and relative state;
-    /// `Some((id, why))` to report it): returns the report with the smallest id, whatever the storage
-    /// order and thread count. Their radii (`radii_m`, by storage index) are gathered only when some
-    /// satellite is not live.
-    fn gather<R: Send>(
-        &mut self,
-        relative: &[RelativeStateHill],
-        active: &[bool],
-        radii_m: &[f64],
-        check: impl Fn(usize, &RelativeStateHill) -> Option<(usize, R)> + Sync,
-    ) -> Option<(usize, R)> {
-        self.indices.clear();
-        self.indices
-            .extend((0..relative.len()).filter(|&i| active[i]));
-        let m = self.indices.len();
-        for buffer in [&mut self.x, &mut self.y, &mut self.z] {
-            buffer.resize(m, 0.0);
-        }
-        self.radii_m.clear();
-        if m < relative.len() {
-            self.radii_m
-                .extend(self.indices.iter().map(|&i| radii_m[i]));
-        }
-        // Each slot on its own; the reports reduced to the smallest id.
-        self.x
-            .par_iter_mut()
-            .zip(self.y.par_iter_mut())
-            .zip(self.z.par_iter_mut())
-            .zip(self.indices.par_iter())
-            .with_min_len(CHUNK)
-            .filter_map(|(((x, y), z), &i)| {
-                let rel = &relative[i];
-                let p = rel.position_m;
-                (*x, *y, *z) = (p.x, p.y, p.z);
-                check(i, rel)
-            })
-            .min_by_key(|(id, _)| *id)
-    }
-
-    /// The minimum separation \[m\] and collision count of the positions last gathered
-    /// ([`live_separation`]), with the fleet's radii `radii_m` \[m\] (by storage index) given again.
-    fn separation(&mut self, radii_m: &[f64]) -> (f64, usize) {
-        let radii_m = if self.indices.len() == radii_m.len() {
-            radii_m
-        } else {
-            &self.radii_m
-        };
-        match self
-            .tracker
-            .update(&self.indices, &self.x, &self.y, &self.z, radii_m)
-        {
-            Ok(sep) => (sep.min_distance_m, sep.collisions),
-            Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
-            Err(_) => (f64::NAN, 0),
-        }
-    }
+/// Runs `check` on each live satellite (its storage index and relative state; `Some((id, why))` to
+/// report it) in parallel and returns the report with the smallest id, whatever the storage order and
+/// thread count.
+fn first_report<R: Send>(
+    relative: &[RelativeStateHill],
+    active: &[bool],
+    check: impl Fn(usize, &RelativeStateHill) -> Option<(usize, R)> + Sync,
+) -> Option<(usize, R)> {
+    relative
+        .par_iter()
+        .zip(active.par_iter())
+        .enumerate()
+        .with_min_len(CHUNK)
+        .filter_map(|(i, (rel, &live))| if live { check(i, rel) } else { None })
+        .min_by_key(|(id, _)| *id)
 }
 
 /// Refuses a non-finite applied command (`applied_hill`, by storage index) of a live satellite of
