@@ -233,6 +233,9 @@ pub(super) struct SampledSegment<'a> {
     /// The Hill command the delta-v ledger integrates, constant over the period (ignored by the
     /// kinematic model, whose ledger stays zero).
     pub held_hill: &'a [Vector3<f64>],
+    /// Every held command is zero (a law that commands nothing): the fused kernel then reads neither
+    /// the commands nor the delta-v ledger, whose four components adding zero would leave unchanged.
+    pub commands_zero: bool,
     pub t0_s: f64,
     pub t1_s: f64,
     pub max_step_s: f64,
@@ -251,6 +254,7 @@ impl SampledSegment<'_> {
             fleet,
             held,
             held_hill,
+            commands_zero,
             t0_s,
             t1_s,
             max_step_s,
@@ -271,14 +275,20 @@ impl SampledSegment<'_> {
                         });
                 }
                 let inputs = SegmentInputs {
-                    control_eci_m_s2: Some(held),
-                    ledger_command_hill_m_s2: Some(held_hill),
+                    control_eci_m_s2: (!commands_zero).then_some(held),
+                    ledger_command_hill_m_s2: (!commands_zero).then_some(held_hill),
                     active: Some(active),
                     drag_area_per_mass_m2_per_kg: kernel
                         .has_drag()
                         .then_some(&drag_area_per_mass_m2_per_kg[..]),
                 };
                 let body = &mut data[satellite_index(n, 0, 0)..];
+                // Without the ledger, the kernel sees the position and velocity columns only.
+                let body = if commands_zero {
+                    &mut body[..6 * n]
+                } else {
+                    body
+                };
                 return Ok(kernel.advance(body, n, &inputs, t0_s, t1_s, max_step_s)?);
             }
             SampledBuffers::Generic {
@@ -342,7 +352,9 @@ mod tests {
 
     /// The fused kernel and the generic per-satellite RK4 give the same bits on the engine's layout,
     /// with commands, ledger and inactive satellites, for 1 and 2 threads, under gravity alone and
-    /// with exponential drag (co-rotating or not; satellites of different ballistic coefficients).
+    /// with exponential drag (co-rotating or not; satellites of different ballistic coefficients); and
+    /// with zero commands the fused kernel told so (reading neither commands nor ledger) gives the
+    /// generic path's bits, ledger included.
     #[test]
     fn fused_sampled_path_equals_the_generic_one() {
         let earth = EarthModel::WGS84_EGM96;
@@ -413,7 +425,13 @@ mod tests {
         ];
         for dynamics in &models {
             let name = dynamics.forces().unwrap().summary().models.join(" + ");
-            let run = |fused: bool, threads: usize| {
+            let run = |fused: bool,
+                       threads: usize,
+                       (held, held_hill, commands_zero): (
+                &[Vector3<f64>],
+                &[Vector3<f64>],
+                bool,
+            )| {
                 let mut buffers = SampledBuffers::new(
                     dynamics,
                     IntegratorMethod::Rk4,
@@ -446,8 +464,9 @@ mod tests {
                 let segment = SampledSegment {
                     dynamics,
                     fleet: &fleet,
-                    held: &held,
-                    held_hill: &held_hill,
+                    held,
+                    held_hill,
+                    commands_zero,
                     t0_s: 2.0,
                     t1_s: 32.5,
                     max_step_s: 1.0,
@@ -456,12 +475,21 @@ mod tests {
                     .unwrap();
                 state
             };
-            let generic = run(false, 1);
-            assert_ne!(generic, data);
-            for threads in [1, 2] {
-                let fused = run(true, threads);
-                for (i, (a, b)) in fused.iter().zip(&generic).enumerate() {
-                    assert_eq!(a.to_bits(), b.to_bits(), "{name}: element {i}: {a} != {b}");
+            let zeros = vec![Vector3::zeros(); n];
+            // Held commands; then zero commands, which the fused kernel is told are zero (it then
+            // skips the commands and the ledger) and the generic path integrates as given.
+            for (commands, told) in [((&held, &held_hill), false), ((&zeros, &zeros), true)] {
+                let generic = run(false, 1, (commands.0, commands.1, false));
+                assert_ne!(generic, data);
+                for threads in [1, 2] {
+                    let fused = run(true, threads, (commands.0, commands.1, told));
+                    for (i, (a, b)) in fused.iter().zip(&generic).enumerate() {
+                        assert_eq!(
+                            a.to_bits(),
+                            b.to_bits(),
+                            "{name}, commands told zero {told}: element {i}: {a} != {b}"
+                        );
+                    }
                 }
             }
         }

@@ -253,6 +253,7 @@ impl Simulation {
                     fleet: &self.satellites.fleet,
                     held: &self.satellites.held_control,
                     held_hill: &self.satellites.applied_hill,
+                    commands_zero: self.satellites.commands_zero,
                     t0_s: t0,
                     t1_s: t1,
                     max_step_s: config.step_s,
