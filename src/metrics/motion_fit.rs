@@ -19,7 +19,7 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 /// Satellites per block of the fit's sums (fixed, so the sums do not depend on the thread count).
-const SUM_BLOCK: usize = 4096;
+pub(crate) const SUM_BLOCK: usize = 4096;
 
 /// Eigenvalues of the anchors' scatter matrix below this fraction of the largest are taken as zero: the
 /// swarm does not span that direction, and the fit leaves it to M = I.
@@ -58,7 +58,8 @@ pub(crate) struct FitSums {
 }
 
 impl FitSums {
-    fn add(&mut self, p: Vector3<f64>, r: Vector3<f64>) {
+    /// Adds a satellite at `p` (anchor, relative to the fit's origin) displaced by `r` since (m).
+    pub(crate) fn add(&mut self, p: Vector3<f64>, r: Vector3<f64>) {
         self.count += 1.0;
         self.p += p;
         self.r += r;
@@ -110,6 +111,13 @@ impl AffineMotion {
                 }
             }
         });
+        Self::from_sums(blocks, origin_m)
+    }
+
+    /// The least-squares motion from the block sums `blocks` (each block's satellites added with
+    /// [`FitSums::add`] relative to `origin_m`, blocks of [`SUM_BLOCK`] satellites in order); `None` when
+    /// a satellite had no anchor or a sum is not finite.
+    pub(crate) fn from_sums(blocks: &[FitSums], origin_m: Vector3<f64>) -> Option<AffineMotion> {
         let total = blocks
             .iter()
             .fold(FitSums::default(), |total, block| total.merge(block));
@@ -134,7 +142,16 @@ impl AffineMotion {
                 inverse += v * v.transpose() / lambda;
             }
         }
-        let stretch = cross * inverse;
+        Self::with_bounds(mean_p + origin_m, shift_m, cross * inverse)
+    }
+
+    /// The motion x ↦ x + `shift_m` + `stretch` (x − `anchor_mean_m`) with its contraction and norm;
+    /// `None` when they are not finite.
+    fn with_bounds(
+        anchor_mean_m: Vector3<f64>,
+        shift_m: Vector3<f64>,
+        stretch: Matrix3<f64>,
+    ) -> Option<AffineMotion> {
         let map = Matrix3::identity() + stretch;
         let gram = (map.transpose() * map).symmetric_eigenvalues();
         let (low, high) = (gram.min(), gram.max());
@@ -142,12 +159,24 @@ impl AffineMotion {
             return None;
         }
         Some(AffineMotion {
-            anchor_mean_m: mean_p + origin_m,
+            anchor_mean_m,
             shift_m,
             stretch,
             contraction: (low - EIGEN_SLACK * high).max(0.0).sqrt(),
             norm: map.norm(),
         })
+    }
+
+    /// The motion one more snapshot on, extrapolated linearly from `earlier` (the snapshot before
+    /// `self`) to `self`: 2 (r̄, D) − (r̄, D)_earlier about `self`'s anchor mean. Any affine motion gives
+    /// a valid bound; this one is close to the next fit while the swarm moves smoothly, so the bound
+    /// can be used before that fit is known.
+    pub(crate) fn extrapolated_from(&self, earlier: &AffineMotion) -> Option<AffineMotion> {
+        Self::with_bounds(
+            self.anchor_mean_m,
+            2.0 * self.shift_m - earlier.shift_m,
+            2.0 * self.stretch - earlier.stretch,
+        )
     }
 
     /// The residual |q − (p + r̄ + D (p − p̄))| \[m\] of a satellite anchored at `anchor_m` and at `now_m`.
@@ -205,6 +234,32 @@ mod tests {
         let fit = AffineMotion::fit(500, |k| Some(anchors[k]), |k| now[k], &mut blocks).unwrap();
         assert!((0..500).all(|k| fit.residual_m(&anchors[k], &now[k]) < 1e-10));
         assert!(fit.contraction > 0.98, "{}", fit.contraction);
+    }
+
+    /// A swarm whose affine motion grows linearly in time (x ↦ x + t (A x + c)): the motion
+    /// extrapolated from the fits at t = 1 and 2 carries the anchors onto the positions at t = 3 to
+    /// rounding, as the fit at t = 3 does.
+    #[test]
+    fn a_motion_linear_in_time_is_extrapolated() {
+        let anchors = points(2_000);
+        let a = Matrix3::new(0.01, -0.02, 0.0, 0.03, 0.005, 0.01, 0.0, -0.01, 0.02);
+        let c = Vector3::new(0.5, -1.5, 2.0);
+        let at =
+            |t: f64| -> Vec<Vector3<f64>> { anchors.iter().map(|p| p + t * (a * p + c)).collect() };
+        let mut blocks = Vec::new();
+        let mut fit_at = |t: f64| {
+            let now = at(t);
+            AffineMotion::fit(2_000, |k| Some(anchors[k]), |k| now[k], &mut blocks).unwrap()
+        };
+        let (first, second) = (fit_at(1.0), fit_at(2.0));
+        let predicted = second.extrapolated_from(&first).unwrap();
+        let now = at(3.0);
+        let worst = (0..anchors.len())
+            .map(|k| predicted.residual_m(&anchors[k], &now[k]))
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "residual {worst} m");
+        let fitted = fit_at(3.0);
+        assert!((predicted.contraction - fitted.contraction).abs() < 1e-12);
     }
 
     /// The lower bound σ_min |p_i − p_j| − e_i − e_j holds for every pair of a swarm whose motion is

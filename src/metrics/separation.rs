@@ -13,7 +13,10 @@
 //! e_max =: L_i (the plain bound with displacements is the case M = I; a swarm drifting together has
 //! residuals far below its displacements, so the bound stays tight for many more steps). The plain
 //! bound is tried first, as it needs no fitting pass; the fit only once the plain bound lets too many
-//! satellites through, and from then on until the next full search. The previous
+//! satellites through, and from then on until the next full search. As any affine motion gives a valid
+//! bound, a snapshot after two fitted ones first uses their linear extrapolation, in the same pass that
+//! sums its own fit, and takes the fit's residuals only when the extrapolation lets too many
+//! through. The previous
 //! closest pair's distance now, U, is an upper bound of the minimum. A pair at the minimum has both ends
 //! with L ≤ U, and a colliding pair (d_ij < a_i + a_j ≤ a_i + a_max) both ends with L_i < a_i + a_max; so
 //! the exact minimum, its lexicographically smallest pair and the collision count are those of the
@@ -28,7 +31,7 @@ use rayon::prelude::*;
 
 use nalgebra::Vector3;
 
-use super::motion_fit::{AffineMotion, FitSums};
+use super::motion_fit::{AffineMotion, FitSums, SUM_BLOCK};
 use super::{check_radii, MetricsError};
 use crate::grid::NeighbourGrid;
 
@@ -201,14 +204,18 @@ pub struct SeparationTracker {
     closest: Option<(usize, usize)>,
     grid: NeighbourGrid,
     nearest_m: Vec<f64>,
-    /// Per satellite of the current snapshot: its distance from where the fitted motion of the swarm
-    /// since the anchors puts it (m).
-    displacement_m: Vec<f64>,
-    /// The block sums of that fit ([`AffineMotion::fit`]).
+    /// Per satellite of the current snapshot: σ d_i − e_i, its lower bound before the swarm-wide terms
+    /// (m): the contraction of the motion used times its anchor's nearest distance, less its distance
+    /// from where that motion puts it.
+    slack_m: Vec<f64>,
+    /// The block sums of the fit ([`AffineMotion::fit`]).
     fit_blocks: Vec<FitSums>,
     /// Whether the plain displacement bound let too many satellites through since the last full
     /// search, so that the fitted motion's bound is used first.
     fitted: bool,
+    /// The fitted motions of the last two snapshots since the last full search (earlier, later), from
+    /// which the next one is extrapolated.
+    motions: [Option<AffineMotion>; 2],
     /// Candidates of a narrow search: their index in the snapshot, positions and radii.
     candidates: Vec<usize>,
     candidate_x: Vec<f64>,
@@ -344,6 +351,7 @@ impl SeparationTracker {
             anchor[3] = f64::NAN;
         }
         self.fitted = false;
+        self.motions = [None, None];
         let n = positions.len();
         let Some(cell_m) = spacing_cell_m(n, |k| positions.position_m(k)) else {
             // Every satellite at one point (a non-finite coordinate is refused by the grid below).
@@ -392,28 +400,17 @@ impl SeparationTracker {
         let ([xa, ya, za], [xb, yb, zb]) = (positions.position_m(ia), positions.position_m(ib));
         let (dx, dy, dz) = (xb - xa, yb - ya, zb - za);
         let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
-        let n = positions.len();
         // The plain displacement bound (M = I) first, unless it let too many through since the last
         // full search; then the fitted motion of the swarm.
         let mut fitted = self.fitted;
         loop {
-            let motion = if fitted {
-                let anchors = &self.anchors;
-                let anchored = |k: usize| {
-                    anchors
-                        .get(positions.id(k))
-                        .filter(|a| !a[3].is_nan())
-                        .map(|a| Vector3::new(a[0], a[1], a[2]))
-                };
-                let now_of = |k: usize| Vector3::from(positions.position_m(k));
-                match AffineMotion::fit(n, anchored, now_of, &mut self.fit_blocks) {
-                    Some(motion) => motion,
-                    None => return Ok(None),
-                }
+            let selected = if fitted {
+                self.select_fitted(positions, radii_m, a_max, upper_m)
             } else {
-                AffineMotion::IDENTITY
+                let identity = AffineMotion::IDENTITY;
+                self.select_candidates(&identity, None, positions, radii_m, a_max, upper_m)
             };
-            match self.select_candidates(&motion, positions, radii_m, a_max, upper_m) {
+            match selected {
                 Some(true) => break,
                 Some(false) if !fitted => fitted = true,
                 _ => return Ok(None),
@@ -453,13 +450,67 @@ impl SeparationTracker {
 }
 
 impl SeparationTracker {
+    /// The candidates under the swarm's fitted motion. With the fitted motions of earlier snapshots,
+    /// one pass takes every residual under their extrapolation and the sums of this snapshot's fit; the
+    /// fit's own residuals are taken only when the extrapolation lets too many through. Returns as
+    /// [`Self::select_candidates`].
+    fn select_fitted(
+        &mut self,
+        positions: &impl TrackedPositions,
+        radii_m: &[f64],
+        a_max: f64,
+        upper_m: f64,
+    ) -> Option<bool> {
+        let anchors = &self.anchors;
+        let anchored = |k: usize| {
+            anchors
+                .get(positions.id(k))
+                .filter(|a| !a[3].is_nan())
+                .map(|a| Vector3::new(a[0], a[1], a[2]))
+        };
+        let origin_m = anchored(0)?;
+        let predicted = match self.motions {
+            [Some(earlier), Some(later)] => later.extrapolated_from(&earlier),
+            [_, later] => later,
+        };
+        let fresh = match predicted {
+            Some(predicted) => {
+                let chosen = self.select_candidates(
+                    &predicted,
+                    Some(origin_m),
+                    positions,
+                    radii_m,
+                    a_max,
+                    upper_m,
+                )?;
+                let fresh = AffineMotion::from_sums(&self.fit_blocks, origin_m)?;
+                self.motions = [self.motions[1], Some(fresh)];
+                if chosen {
+                    return Some(true);
+                }
+                fresh
+            }
+            None => {
+                let now_of = |k: usize| Vector3::from(positions.position_m(k));
+                let fresh =
+                    AffineMotion::fit(positions.len(), anchored, now_of, &mut self.fit_blocks)?;
+                self.motions = [self.motions[1], Some(fresh)];
+                fresh
+            }
+        };
+        self.select_candidates(&fresh, None, positions, radii_m, a_max, upper_m)
+    }
+
     /// Fills `candidates` with the satellites whose lower bound under `motion` (from the anchors to the
     /// `positions` now) does not exclude them from the minimum (`upper_m`) or from a collision:
     /// `Some(true)` when they are at most a quarter of the satellites, `Some(false)` when more, `None`
-    /// when a satellite has no anchor or a residual or `upper_m` is not finite.
+    /// when a satellite has no anchor or a residual or `upper_m` is not finite. With `fit_origin_m`, the
+    /// same pass also fills `fit_blocks` with the sums of this snapshot's fit about that origin
+    /// ([`AffineMotion::from_sums`]).
     fn select_candidates(
         &mut self,
         motion: &AffineMotion,
+        fit_origin_m: Option<Vector3<f64>>,
         positions: &impl TrackedPositions,
         radii_m: &[f64],
         a_max: f64,
@@ -467,47 +518,55 @@ impl SeparationTracker {
     ) -> Option<bool> {
         let n = positions.len();
         let anchors = &self.anchors;
-        self.displacement_m.resize(n, 0.0);
+        let contraction = motion.contraction;
+        self.slack_m.resize(n, 0.0);
+        self.fit_blocks.clear();
+        self.fit_blocks
+            .resize(n.div_ceil(SUM_BLOCK), FitSums::default());
         // Residuals from the motion, their maximum and the largest coordinate magnitude, in parallel
-        // (maxima: the same values in any order).
+        // over the fit's fixed blocks (maxima: the same values in any order; sums: per block).
         let (largest_m, scale_m) = self
-            .displacement_m
-            .par_iter_mut()
+            .slack_m
+            .par_chunks_mut(SUM_BLOCK)
+            .zip(self.fit_blocks.par_iter_mut())
             .enumerate()
-            .with_min_len(PARALLEL_MIN_LEN)
-            .map(|(k, moved)| {
-                let a = anchors.get(positions.id(k)).filter(|a| !a[3].is_nan())?;
-                let [x, y, z] = positions.position_m(k);
-                let (anchor, now) = (Vector3::new(a[0], a[1], a[2]), Vector3::new(x, y, z));
-                let moved_m = motion.residual_m(&anchor, &now);
-                if !moved_m.is_finite() {
-                    return None;
+            .map(|(b, (slack, sums))| {
+                let mut worst = (0.0_f64, 0.0_f64);
+                for (offset, slack) in slack.iter_mut().enumerate() {
+                    let k = b * SUM_BLOCK + offset;
+                    let a = anchors.get(positions.id(k)).filter(|a| !a[3].is_nan())?;
+                    let [x, y, z] = positions.position_m(k);
+                    let (anchor, now) = (Vector3::new(a[0], a[1], a[2]), Vector3::new(x, y, z));
+                    let moved_m = motion.residual_m(&anchor, &now);
+                    if !moved_m.is_finite() {
+                        return None;
+                    }
+                    *slack = contraction * a[3] - moved_m;
+                    if let Some(origin_m) = fit_origin_m {
+                        sums.add(anchor - origin_m, now - anchor);
+                    }
+                    // The largest magnitude of the six coordinates (as scalars: no vector round trip
+                    // through the stack).
+                    let largest = [a[1], a[2], x, y, z]
+                        .into_iter()
+                        .fold(a[0].abs(), |m, v| m.max(v.abs()));
+                    worst = (worst.0.max(moved_m), worst.1.max(largest));
                 }
-                *moved = moved_m;
-                // The largest magnitude of the six coordinates (as scalars: no vector round trip
-                // through the stack).
-                let largest = [a[1], a[2], x, y, z]
-                    .into_iter()
-                    .fold(a[0].abs(), |m, v| m.max(v.abs()));
-                Some((moved_m, largest))
+                Some(worst)
             })
             .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))?;
         if !(upper_m.is_finite() && scale_m.is_finite()) {
             return None;
         }
         let margin_m = 1e-9 * scale_m * (1.0 + motion.norm);
-        let contraction = motion.contraction;
-        let displacement_m = &self.displacement_m;
+        let slack_m = &self.slack_m;
         self.candidates.clear();
         self.candidates.par_extend(
             (0..n)
                 .into_par_iter()
                 .with_min_len(PARALLEL_MIN_LEN)
                 .filter(|&k| {
-                    let lower_m = contraction * anchors[positions.id(k)][3]
-                        - displacement_m[k]
-                        - largest_m
-                        - margin_m;
+                    let lower_m = slack_m[k] - largest_m - margin_m;
                     lower_m <= upper_m || lower_m < radii_m[k] + a_max
                 }),
         );
