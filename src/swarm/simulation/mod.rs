@@ -65,7 +65,7 @@ use crate::swarm::events::{ConditionTest, Event, EventAction, Selection, Trigger
 use crate::swarm::law::{GuidanceLaw, Law, SwarmView};
 use crate::swarm::state::SwarmState;
 use crate::swarm::storage_order::Placement;
-use monitors::{LiveMetrics, Monitors, OriginStates};
+use monitors::{divergence_check, LiveMetrics, Monitors, OriginStates};
 use propagation::{SampledBuffers, StageScratch};
 use resort::RESORT_PERIOD_TICKS;
 use satellites::Satellites;
@@ -337,6 +337,7 @@ impl Simulation {
                 },
                 conjunctions: None,
                 origin_previous: OriginStates::default(),
+                diverged: None,
                 tracks_threats,
                 threat_window_m: None,
                 conjunctions_seen: 0,
@@ -578,7 +579,8 @@ impl Simulation {
     }
 
     /// Recomputes the truth relative states of the swarm state at `t_s` (the state's time: a segment's
-    /// end before the clock moves to it).
+    /// end before the clock moves to it), checking every live satellite for divergence in the same pass
+    /// (the report the monitors act on).
     fn refresh_truth(&mut self, t_s: f64) {
         let plant = Plant::new(
             &self.config,
@@ -586,7 +588,14 @@ impl Simulation {
             &self.timeline.threat_warnings,
             self.reference_model,
         );
-        plant.truth_relative(t_s, self.state.as_slice(), &mut self.satellites.truth);
+        let check = divergence_check(&self.config, &self.satellites.fleet);
+        let (_, diverged) = plant.truth_relative_checked(
+            t_s,
+            self.state.as_slice(),
+            &mut self.satellites.truth,
+            check,
+        );
+        self.monitors.diverged = diverged;
     }
 
     /// Calls `f` with the running law and a whole-swarm view of the truth relative states now (no

@@ -10,14 +10,12 @@ use crate::conjunction::{ConjunctionMonitor, SwarmSegment};
 use crate::environment::{closest_approach_to_threat, HermiteSegment};
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker, TrackedPositions};
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
-use rayon::prelude::*;
 
 use crate::swarm::simulation::satellites::Fleet;
-use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::Origin;
 use crate::swarm::simulation::{Divergence, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
-use crate::swarm::storage_order::{permute, StorageOrder};
+use crate::swarm::storage_order::permute;
 use crate::swarm::Law;
 
 /// The truth monitors' own state: the live metrics' buffers, the continuous threat and obstacle
@@ -32,6 +30,9 @@ pub(super) struct Monitors {
     pub conjunctions: Option<ConjunctionMonitor>,
     /// The LVLH origin's states at the start of the last segment (conjunction monitor only).
     pub origin_previous: OriginStates,
+    /// The live satellite with the smallest id whose truth state diverged, and why, as the last
+    /// truth pass found it ([`divergence_check`]).
+    pub diverged: Option<(usize, Divergence)>,
     /// Whether a condition event tests the closest approach to a threat (`threat_within_m`): then
     /// every segment's continuous closest approach of the swarm goes into `threat_window_m`.
     pub tracks_threats: bool,
@@ -117,17 +118,7 @@ impl LiveMetrics {
 impl Simulation {
     /// Runs every truth monitor on the segment that ended now and started at `t0_s`.
     pub(super) fn monitor(&mut self, t0_s: f64) -> Result<(), SimError> {
-        let diverged = divergence_check(
-            &self.config,
-            self.state.as_slice(),
-            self.state.n(),
-            &self.satellites.fleet.order,
-        );
-        if let Some((satellite, reason)) = first_report(
-            &self.satellites.truth,
-            &self.satellites.fleet.active,
-            diverged,
-        ) {
+        if let Some((satellite, reason)) = self.monitors.diverged {
             return Err(SimError::Diverged {
                 satellite,
                 time_s: self.clock.time_s,
@@ -280,20 +271,30 @@ impl Simulation {
     }
 }
 
-/// Why the live satellite at storage index `i` (truth relative state `rel`) stops the run, with its id:
-/// a non-finite state, a distance from the origin beyond `config.max_distance_m`, or a position below the
-/// atmosphere's floor (inertial models with drag; `data` is the flat state of the `n` satellites
-/// in the storage order `order`).
-fn divergence_check<'a>(
+/// Why the live satellite at storage index `i` of `fleet` (its position in the state `position_m`,
+/// its truth relative state `rel`) stops the run, with its id: a non-finite state, a distance from the
+/// origin beyond `config.max_distance_m`, or a position below the atmosphere's floor (inertial models
+/// with drag, whose state positions are EME2000). Satellites that are not live are not checked.
+pub(super) fn divergence_check<'a>(
     config: &'a SimulationConfig,
-    data: &'a [f64],
-    n: usize,
-    order: &'a StorageOrder,
-) -> impl Fn(usize, &RelativeStateHill) -> Option<(usize, Divergence)> + Sync + 'a {
+    fleet: &'a Fleet,
+) -> impl Fn(usize, &Vector3<f64>, &RelativeStateHill) -> Option<(usize, Divergence)> + Sync + 'a {
     let bound = config.max_distance_m;
-    // Only an atmosphere has a floor: without one, no satellite's inertial position is read.
+    // A squared distance up to this is within the bound with room for the square root's rounding.
+    let surely_within_m2 = (bound * (1.0 - 1e-9)).powi(2);
+    // Only an atmosphere has a floor: without one, the position in the state is not read.
     let forces = config.dynamics.forces().filter(|f| f.drag().is_some());
-    move |i, rel| {
+    move |i, position_m, rel| {
+        if !fleet.active[i] {
+            return None;
+        }
+        // The common case without a square root or a branch per component: six finite components
+        // have a finite sum, and any NaN or infinite one makes the sum NaN or infinite.
+        let (p, v) = (&rel.position_m, &rel.velocity_mps);
+        let sum = p.x + p.y + p.z + v.x + v.y + v.z;
+        if forces.is_none() && sum.is_finite() && p.norm_squared() <= surely_within_m2 {
+            return None;
+        }
         let reason = {
             let finite = rel.position_m.iter().all(|v| v.is_finite())
                 && rel.velocity_mps.iter().all(|v| v.is_finite());
@@ -307,17 +308,16 @@ fn divergence_check<'a>(
                 })
             } else {
                 forces.and_then(|forces| {
-                    let (position_m, _) = satellite_of(data, n, i);
-                    forces
-                        .below_floor(&position_m)
-                        .map(|(altitude_m, floor_m)| Divergence::BelowAtmosphere {
+                    forces.below_floor(position_m).map(|(altitude_m, floor_m)| {
+                        Divergence::BelowAtmosphere {
                             altitude_m,
                             floor_m,
-                        })
+                        }
+                    })
                 })
             }
         };
-        reason.map(|reason| (order.id_at(i), reason))
+        reason.map(|reason| (fleet.order.id_at(i), reason))
     }
 }
 
@@ -375,23 +375,6 @@ pub(super) fn live_separation(
         Err(MetricsError::TooFewSatellites { .. }) => (f64::INFINITY, 0),
         Err(_) => (f64::NAN, 0),
     }
-}
-
-/// Runs `check` on each live satellite (its storage index and relative state; `Some((id, why))` to
-/// report it) in parallel and returns the report with the smallest id, whatever the storage order and
-/// thread count.
-fn first_report<R: Send>(
-    relative: &[RelativeStateHill],
-    active: &[bool],
-    check: impl Fn(usize, &RelativeStateHill) -> Option<(usize, R)> + Sync,
-) -> Option<(usize, R)> {
-    relative
-        .par_iter()
-        .zip(active.par_iter())
-        .enumerate()
-        .with_min_len(CHUNK)
-        .filter_map(|(i, (rel, &live))| if live { check(i, rel) } else { None })
-        .min_by_key(|(id, _)| *id)
 }
 
 /// Refuses a non-finite applied command (`applied_hill`, by storage index) of a live satellite of

@@ -115,27 +115,37 @@ fn satellite_components(data: &[f64], n: usize) -> [&[f64]; 6] {
     })
 }
 
-/// Calls `f` with every satellite's position and velocity (from `components`, by storage index) and
-/// its slot of `out`, in parallel over chunks: each chunk reads its six columns as slices, so the loop
-/// carries no index arithmetic or bounds checks per satellite.
-fn for_each_satellite_state<T: Send>(
+/// Calls `f` with every satellite's storage index, position and velocity (from `components`) and its
+/// slot of `out`, in parallel over chunks: each chunk reads its six columns as slices, so the loop
+/// carries no index arithmetic or bounds checks per satellite. `f` may report a satellite
+/// (`Some((id, why))`): the report with the smallest id is returned, whatever the thread count.
+fn for_each_satellite_state<T: Send, R: Send>(
     components: &[&[f64]; 6],
     out: &mut [T],
-    f: impl Fn(Vector3<f64>, Vector3<f64>, &mut T) + Sync,
-) {
+    f: impl Fn(usize, Vector3<f64>, Vector3<f64>, &mut T) -> Option<(usize, R)> + Sync,
+) -> Option<(usize, R)> {
     out.par_chunks_mut(CHUNK)
         .enumerate()
-        .for_each(|(chunk, out)| {
+        .filter_map(|(chunk, out)| {
             let start = chunk * CHUNK;
             let [x, y, z, vx, vy, vz] = components.map(|column| &column[start..start + out.len()]);
+            let mut first: Option<(usize, R)> = None;
             for (k, slot) in out.iter_mut().enumerate() {
-                f(
+                let report = f(
+                    start + k,
                     Vector3::new(x[k], y[k], z[k]),
                     Vector3::new(vx[k], vy[k], vz[k]),
                     slot,
                 );
+                if let Some(report) = report {
+                    if first.as_ref().is_none_or(|(id, _)| report.0 < *id) {
+                        first = Some(report);
+                    }
+                }
             }
-        });
+            first
+        })
+        .min_by_key(|(id, _)| *id)
 }
 
 /// What the views and the right-hand side read besides the state and the law.
@@ -235,26 +245,43 @@ impl<'a> Plant<'a> {
         data: &[f64],
         relative: &mut [RelativeStateHill],
     ) -> Option<LvlhFrame> {
+        let unchecked = |_: usize, _: &Vector3<f64>, _: &RelativeStateHill| None::<(usize, ())>;
+        self.truth_relative_checked(t_s, data, relative, unchecked)
+            .0
+    }
+
+    /// [`Self::truth_relative`], running `check` on each satellite in the same pass (its storage
+    /// index, its position in the state — EME2000 for the inertial models, Hill otherwise — and its
+    /// relative state; `Some((id, why))` to report it): also returns the report with the smallest id.
+    pub fn truth_relative_checked<R: Send>(
+        &self,
+        t_s: f64,
+        data: &[f64],
+        relative: &mut [RelativeStateHill],
+        check: impl Fn(usize, &Vector3<f64>, &RelativeStateHill) -> Option<(usize, R)> + Sync,
+    ) -> (Option<LvlhFrame>, Option<(usize, R)>) {
         let n = self.n();
         let components = satellite_components(data, n);
         if self.config.dynamics.is_inertial() {
             let frame = self.frame(t_s, data);
-            for_each_satellite_state(&components, relative, |p, v, rel| {
+            let report = for_each_satellite_state(&components, relative, |i, p, v, rel| {
                 *rel = frame.to_hill(&CartesianState::new(p, v));
+                check(i, &p, rel)
             });
-            Some(frame)
+            (Some(frame), report)
         } else {
             let (op, ov) = match self.config.origin {
                 Origin::VirtualReference => (Vector3::zeros(), Vector3::zeros()),
                 Origin::Member(k) => satellite_of(data, n, self.fleet.order.index_of(k)),
             };
-            for_each_satellite_state(&components, relative, |p, v, rel| {
+            let report = for_each_satellite_state(&components, relative, |i, p, v, rel| {
                 *rel = RelativeStateHill {
                     position_m: p - op,
                     velocity_mps: v - ov,
                 };
+                check(i, &p, rel)
             });
-            None
+            (None, report)
         }
     }
 
