@@ -59,6 +59,7 @@ pub(crate) struct FitSums {
 
 impl FitSums {
     /// Adds a satellite at `p` (anchor, relative to the fit's origin) displaced by `r` since (m).
+    #[inline]
     pub(crate) fn add(&mut self, p: Vector3<f64>, r: Vector3<f64>) {
         self.count += 1.0;
         self.p += p;

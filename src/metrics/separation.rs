@@ -546,11 +546,12 @@ impl SeparationTracker {
                         sums.add(anchor - origin_m, now - anchor);
                     }
                     // The largest magnitude of the six coordinates (as scalars: no vector round trip
-                    // through the stack).
+                    // through the stack). A finite residual makes every coordinate finite, so plain
+                    // comparisons give the maxima (no NaN handling).
                     let largest = [a[1], a[2], x, y, z]
                         .into_iter()
-                        .fold(a[0].abs(), |m, v| m.max(v.abs()));
-                    worst = (worst.0.max(moved_m), worst.1.max(largest));
+                        .fold(a[0].abs(), |m, v| larger(m, v.abs()));
+                    worst = (larger(worst.0, moved_m), larger(worst.1, largest));
                 }
                 Some(worst)
             })
@@ -571,6 +572,17 @@ impl SeparationTracker {
                 }),
         );
         Some(self.candidates.len() <= n / 4)
+    }
+}
+
+/// The larger of two numbers that are not NaN (a plain comparison: cheaper than [`f64::max`], which
+/// must handle NaN).
+#[inline]
+fn larger(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
     }
 }
 
