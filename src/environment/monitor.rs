@@ -11,6 +11,10 @@ use super::motion::Motion;
 use super::obstacle::Obstacle;
 use super::threat::Threat;
 use super::EnvironmentError;
+use rayon::prelude::*;
+
+/// Smallest number of satellites per parallel work item of [`ApproachMonitor::observe_segments`].
+const PARALLEL_MIN_SATELLITES: usize = 256;
 
 /// A per-pair minimum located in the swarm: which satellite, which object (threat or obstacle index, in
 /// the order of the slices given to [`ApproachMonitor::observe_segment`]) and the minimum itself.
@@ -124,36 +128,78 @@ impl ApproachMonitor {
                 count: self.satellites,
             });
         }
-        if threats.len() != self.threats {
-            return Err(EnvironmentError::ObjectCount {
-                what: "threats",
-                expected: self.threats,
-                got: threats.len(),
-            });
-        }
-        if obstacles.len() != self.obstacles {
-            return Err(EnvironmentError::ObjectCount {
-                what: "obstacles",
-                expected: self.obstacles,
-                got: obstacles.len(),
-            });
-        }
+        self.check_objects(threats, obstacles)?;
         let threat_states =
             &mut self.threat_pairs[satellite * self.threats..(satellite + 1) * self.threats];
-        for (state, threat) in threat_states.iter_mut().zip(threats) {
-            observe_pair(
-                state,
-                segment,
-                threat.motion(),
-                threat.danger_radius_m(),
-                0.0,
-            );
-        }
         let obstacle_states =
             &mut self.obstacle_pairs[satellite * self.obstacles..(satellite + 1) * self.obstacles];
-        for (state, obstacle) in obstacle_states.iter_mut().zip(obstacles) {
-            let radius_m = obstacle.radius_m();
-            observe_pair(state, segment, obstacle.motion(), radius_m, radius_m);
+        observe_satellite(threat_states, obstacle_states, segment, threats, obstacles);
+        Ok(())
+    }
+
+    /// [`Self::observe_segment`] for every satellite at once, in parallel: `segment_of(satellite)` is
+    /// the satellite's segment (`None`: nothing observed for it this time). Satellites are independent,
+    /// so the results are those of observing each one in turn, on any thread count.
+    ///
+    /// # Errors
+    /// [`EnvironmentError::ObjectCount`] when `threats` or `obstacles` is not as long as the monitor
+    /// was built for; nothing is updated then.
+    pub fn observe_segments(
+        &mut self,
+        segment_of: impl Fn(usize) -> Option<HermiteSegment> + Sync,
+        threats: &[Threat],
+        obstacles: &[Obstacle],
+    ) -> Result<(), EnvironmentError> {
+        self.check_objects(threats, obstacles)?;
+        let observe = |satellite: usize,
+                       threat_states: &mut [PairState],
+                       obstacle_states: &mut [PairState]| {
+            if let Some(segment) = segment_of(satellite) {
+                observe_satellite(threat_states, obstacle_states, &segment, threats, obstacles);
+            }
+        };
+        let (t, o) = (self.threats, self.obstacles);
+        let (threat_pairs, obstacle_pairs) = (&mut self.threat_pairs, &mut self.obstacle_pairs);
+        match (t > 0, o > 0) {
+            (true, true) => threat_pairs
+                .par_chunks_mut(t)
+                .zip(obstacle_pairs.par_chunks_mut(o))
+                .enumerate()
+                .with_min_len(PARALLEL_MIN_SATELLITES)
+                .for_each(|(s, (a, b))| observe(s, a, b)),
+            (true, false) => threat_pairs
+                .par_chunks_mut(t)
+                .enumerate()
+                .with_min_len(PARALLEL_MIN_SATELLITES)
+                .for_each(|(s, a)| observe(s, a, &mut [])),
+            (false, true) => obstacle_pairs
+                .par_chunks_mut(o)
+                .enumerate()
+                .with_min_len(PARALLEL_MIN_SATELLITES)
+                .for_each(|(s, b)| observe(s, &mut [], b)),
+            (false, false) => {}
+        }
+        Ok(())
+    }
+
+    /// [`EnvironmentError::ObjectCount`] unless `threats` and `obstacles` are as many as the monitor
+    /// was built for.
+    fn check_objects(
+        &self,
+        threats: &[Threat],
+        obstacles: &[Obstacle],
+    ) -> Result<(), EnvironmentError> {
+        for (what, expected, got) in [
+            ("threats", self.threats, threats.len()),
+            ("obstacles", self.obstacles, obstacles.len()),
+        ] {
+            if got != expected {
+                return Err(EnvironmentError::ObjectCount {
+                    what,
+                    expected,
+                    got,
+                });
+            }
         }
         Ok(())
     }
@@ -312,6 +358,30 @@ impl ApproachMonitor {
     /// Entries of all satellites into all obstacles.
     pub fn total_obstacle_incursions(&self) -> u64 {
         self.obstacle_pairs.iter().map(|st| st.incursions).sum()
+    }
+}
+
+/// Updates one satellite's pairs with its segment: `threat_states` and `obstacle_states` in the order of
+/// `threats` and `obstacles`.
+fn observe_satellite(
+    threat_states: &mut [PairState],
+    obstacle_states: &mut [PairState],
+    segment: &HermiteSegment,
+    threats: &[Threat],
+    obstacles: &[Obstacle],
+) {
+    for (state, threat) in threat_states.iter_mut().zip(threats) {
+        observe_pair(
+            state,
+            segment,
+            threat.motion(),
+            threat.danger_radius_m(),
+            0.0,
+        );
+    }
+    for (state, obstacle) in obstacle_states.iter_mut().zip(obstacles) {
+        let radius_m = obstacle.radius_m();
+        observe_pair(state, segment, obstacle.motion(), radius_m, radius_m);
     }
 }
 

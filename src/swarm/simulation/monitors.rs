@@ -17,6 +17,7 @@ use crate::swarm::simulation::{Divergence, SimError, Simulation, SimulationConfi
 use crate::swarm::state::{reference_of, satellite_of};
 use crate::swarm::storage_order::permute;
 use crate::swarm::Law;
+use rayon::prelude::*;
 
 /// The truth monitors' own state: the live metrics' buffers, the continuous threat and obstacle
 /// monitor, and the truth at the start of the segment their Hermite paths start from.
@@ -142,38 +143,46 @@ impl Simulation {
         if self.clock.time_s > t0_s
             && !(self.config.threats.is_empty() && self.config.obstacles.is_empty())
         {
-            for (i, (start, end)) in self
+            let (t1_s, order) = (self.clock.time_s, &self.satellites.fleet.order);
+            let (start, end) = (&self.monitors.truth_previous, &self.satellites.truth);
+            let active = &self.satellites.fleet.active;
+            // Each live satellite's path over the segment, by id (finite states, checked above, and
+            // t1 > t0 make it valid).
+            let segment_of = |id: usize| {
+                let i = order.index_of(id);
+                active[i].then(|| {
+                    HermiteSegment::new(
+                        t0_s,
+                        t1_s,
+                        start[i].position_m,
+                        start[i].velocity_mps,
+                        end[i].position_m,
+                        end[i].velocity_mps,
+                    )
+                    .ok()
+                })?
+            };
+            let (threats, obstacles) = (&self.config.threats, &self.config.obstacles);
+            // The monitor was built for these threats and obstacles.
+            let _ = self
                 .monitors
-                .truth_previous
-                .iter()
-                .zip(&self.satellites.truth)
-                .enumerate()
-            {
-                if !self.satellites.fleet.active[i] {
-                    continue;
-                }
-                // Finite states (checked above) and t1 > t0 make the segment valid.
-                if let Ok(segment) = HermiteSegment::new(
-                    t0_s,
-                    self.clock.time_s,
-                    start.position_m,
-                    start.velocity_mps,
-                    end.position_m,
-                    end.velocity_mps,
-                ) {
-                    let _ = self.monitors.approach.observe_segment(
-                        self.satellites.fleet.order.id_at(i),
-                        &segment,
-                        &self.config.threats,
-                        &self.config.obstacles,
-                    );
-                    if self.monitors.tracks_threats {
-                        for threat in &self.config.threats {
-                            let d = closest_approach_to_threat(&segment, threat).distance_m;
-                            let window = &mut self.monitors.threat_window_m;
-                            *window = Some(window.map_or(d, |w| w.min(d)));
-                        }
-                    }
+                .approach
+                .observe_segments(segment_of, threats, obstacles);
+            if self.monitors.tracks_threats {
+                let closest_m = (0..end.len())
+                    .into_par_iter()
+                    .with_min_len(256)
+                    .filter_map(|id| {
+                        let segment = segment_of(id)?;
+                        threats
+                            .iter()
+                            .map(|threat| closest_approach_to_threat(&segment, threat).distance_m)
+                            .reduce(f64::min)
+                    })
+                    .reduce_with(f64::min);
+                if let Some(d) = closest_m {
+                    let window = &mut self.monitors.threat_window_m;
+                    *window = Some(window.map_or(d, |w| w.min(d)));
                 }
             }
         }
