@@ -803,3 +803,86 @@ impl Radius for Obstacle {
         self.radius_m()
     }
 }
+
+/// `observe_segments` (every satellite at once, in parallel) leaves the monitor as observing each
+/// satellite in turn with `observe_segment` does: 700 satellites (several parallel work items) on
+/// three successive segments through two threats' danger spheres and an obstacle, some satellites not
+/// observed on some segments; with threats only, obstacles only and both; on 1 and 2 threads.
+#[test]
+fn observing_all_satellites_at_once_equals_one_at_a_time() {
+    let n = 700;
+    let threats = [
+        Threat::from_state("a", 0.0, v(-60.0, 0.0, 0.0), v(4.0, 0.0, 0.0), 12.0).unwrap(),
+        Threat::from_state("b", 0.0, v(0.0, 80.0, 5.0), v(0.0, -5.0, 0.0), 8.0).unwrap(),
+    ];
+    let obstacles = [Obstacle::new("o", v(10.0, -10.0, 0.0), 15.0).unwrap()];
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let mut point = || {
+        v(
+            rng.random_range(-40.0..40.0),
+            rng.random_range(-40.0..40.0),
+            rng.random_range(-10.0..10.0),
+        )
+    };
+    // Positions at t = 0, 10, 20, 30 s; satellite i is not observed on segment k when (i + k) % 7 == 0.
+    let waypoints: Vec<[Vector3<f64>; 4]> = (0..n)
+        .map(|_| [point(), point(), point(), point()])
+        .collect();
+    let segment = |i: usize, k: usize| {
+        (!(i + k).is_multiple_of(7)).then(|| {
+            let t0 = 10.0 * k as f64;
+            straight(t0, t0 + 10.0, waypoints[i][k], waypoints[i][k + 1])
+        })
+    };
+    let configurations: [(&[Threat], &[Obstacle]); 3] =
+        [(&threats, &[]), (&[], &obstacles), (&threats, &obstacles)];
+    for (threats, obstacles) in configurations {
+        let mut one_at_a_time = ApproachMonitor::new(n, threats.len(), obstacles.len());
+        for k in 0..3 {
+            for i in 0..n {
+                if let Some(s) = segment(i, k) {
+                    one_at_a_time
+                        .observe_segment(i, &s, threats, obstacles)
+                        .unwrap();
+                }
+            }
+        }
+        for threads in [1, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let mut at_once = ApproachMonitor::new(n, threats.len(), obstacles.len());
+            for k in 0..3 {
+                pool.install(|| at_once.observe_segments(|i| segment(i, k), threats, obstacles))
+                    .unwrap();
+            }
+            for i in 0..n {
+                for t in 0..threats.len() {
+                    assert_eq!(
+                        at_once.threat_approach(i, t),
+                        one_at_a_time.threat_approach(i, t)
+                    );
+                    assert_eq!(
+                        at_once.threat_incursions(i, t),
+                        one_at_a_time.threat_incursions(i, t)
+                    );
+                }
+                for o in 0..obstacles.len() {
+                    assert_eq!(
+                        at_once.obstacle_clearance(i, o),
+                        one_at_a_time.obstacle_clearance(i, o)
+                    );
+                    assert_eq!(
+                        at_once.obstacle_incursions(i, o),
+                        one_at_a_time.obstacle_incursions(i, o)
+                    );
+                }
+            }
+        }
+        // The passages cross the spheres: incursions were counted.
+        assert!(
+            one_at_a_time.total_threat_incursions() + one_at_a_time.total_obstacle_incursions() > 0
+        );
+    }
+}
