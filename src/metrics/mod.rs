@@ -98,12 +98,19 @@ pub(crate) fn check_radii(radii_m: &[f64], n: usize) -> Result<f64, MetricsError
             got: radii_m.len(),
         });
     }
-    let mut a_max = 0.0_f64;
-    for (index, &radius_m) in radii_m.iter().enumerate() {
-        if !(radius_m.is_finite() && radius_m >= 0.0) {
-            return Err(MetricsError::InvalidRadius { index, radius_m });
-        }
-        a_max = a_max.max(radius_m);
+    // One branch-free pass (it vectorises): every radius valid, and their maximum; the first invalid
+    // one is looked for only when there is one.
+    let (all_valid, a_max) = radii_m.iter().fold((true, 0.0_f64), |(valid, a_max), &r| {
+        let ok = r.is_finite() & (r >= 0.0);
+        (valid & ok, if ok & (r > a_max) { r } else { a_max })
+    });
+    if !all_valid {
+        let (index, &radius_m) = radii_m
+            .iter()
+            .enumerate()
+            .find(|(_, r)| !(r.is_finite() && **r >= 0.0))
+            .expect("an invalid radius was seen");
+        return Err(MetricsError::InvalidRadius { index, radius_m });
     }
     Ok(a_max)
 }

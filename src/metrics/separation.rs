@@ -143,6 +143,10 @@ pub(crate) trait TrackedPositions: Sync {
     fn id(&self, k: usize) -> usize;
     /// Position of the `k`-th satellite (m).
     fn position_m(&self, k: usize) -> [f64; 3];
+    /// Whether the ids ascend strictly by construction, so that an update need not check them.
+    fn ids_known_ascending(&self) -> bool {
+        false
+    }
 }
 
 /// Positions given as three columns with their ids ([`SeparationTracker::update`]); equal lengths.
@@ -323,8 +327,10 @@ impl SeparationTracker {
         if n < 2 {
             return Err(MetricsError::TooFewSatellites { n });
         }
-        if let Some(index) = (1..n).find(|&k| positions.id(k) <= positions.id(k - 1)) {
-            return Err(MetricsError::UnorderedIds { index });
+        if !positions.ids_known_ascending() {
+            if let Some(index) = (1..n).find(|&k| positions.id(k) <= positions.id(k - 1)) {
+                return Err(MetricsError::UnorderedIds { index });
+            }
         }
         let a_max = check_radii(radii_m, n)?;
         let separation = match self.narrow(positions, radii_m, a_max)? {

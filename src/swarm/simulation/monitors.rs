@@ -93,6 +93,11 @@ impl TrackedPositions for LivePositions<'_> {
         let p = &self.relative[self.id(k)].position_m;
         [p.x, p.y, p.z]
     }
+
+    /// Every storage index, or the live ones listed in ascending order.
+    fn ids_known_ascending(&self) -> bool {
+        true
+    }
 }
 
 impl LiveMetrics {
