@@ -114,3 +114,30 @@ pub(crate) fn check_radii(radii_m: &[f64], n: usize) -> Result<f64, MetricsError
     }
     Ok(a_max)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The largest radius of valid radii (zero for none), and the first invalid one (NaN, infinite or
+    /// negative) named by its index even when later ones are invalid too.
+    #[test]
+    fn radii_are_checked_and_their_largest_returned() {
+        assert_eq!(check_radii(&[0.5, 2.0, 0.0, 1.5], 4), Ok(2.0));
+        assert_eq!(check_radii(&[], 0), Ok(0.0));
+        for (bad, index) in [(f64::NAN, 2), (f64::INFINITY, 2), (-0.1, 2)] {
+            let radii = [0.5, 3.0, bad, -7.0, f64::NAN];
+            match check_radii(&radii, 5) {
+                Err(MetricsError::InvalidRadius { index: i, radius_m }) => {
+                    assert_eq!(i, index);
+                    assert_eq!(radius_m.to_bits(), bad.to_bits());
+                }
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        assert!(matches!(
+            check_radii(&[1.0], 2),
+            Err(MetricsError::LengthMismatch { .. })
+        ));
+    }
+}
