@@ -12,6 +12,7 @@ use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker, Tra
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
 
 use crate::swarm::simulation::satellites::Fleet;
+use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::Origin;
 use crate::swarm::simulation::{Divergence, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
@@ -176,7 +177,7 @@ impl Simulation {
             if self.monitors.tracks_threats {
                 let closest_m = (0..end.len())
                     .into_par_iter()
-                    .with_min_len(256)
+                    .with_min_len(CHUNK)
                     .filter_map(|id| {
                         let segment = segment_of(id)?;
                         threats
@@ -433,6 +434,65 @@ mod tests {
     /// Four satellites on a line with radii of their own: the pairs (0, 1) and (1, 2) touch. With
     /// satellite 1 removed nothing touches; reading satellite 1's radius for satellite 2 (a radius taken
     /// by live rank instead of storage index) would make (0, 2) touch.
+    /// The divergence check against its definition, on both sides of its quick test: a distance at
+    /// the bound (1 km) or just inside passes, one ulp beyond is too far, any non-finite component
+    /// (in the velocity too, and an infinite position whose squared norm is not a number to compare)
+    /// is not finite, and a satellite that is not live is never reported.
+    #[test]
+    fn divergence_check_follows_its_definition() {
+        let text = "name = \"t\"\nseed = 1\nduration_s = 10.0\nrecord_interval_s = 10.0\n\
+                    [dynamics]\nmodel = \"hcw\"\nintegrator = \"rk4\"\nstep_s = 1.0\n\
+                    max_distance_m = 1000.0\n\
+                    [reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n\
+                    [satellites]\ncount = 3\nmass_kg = 5.0\nradius_m = 0.1\n\
+                    initial = { distribution = \"sphere\", radius_m = 50.0 }\n\
+                    [law]\nname = \"none\"\n";
+        let scenario =
+            crate::scenario::Scenario::from_toml(text, "t", std::path::Path::new(".")).unwrap();
+        let mut sim = crate::run::build_simulation(&scenario).unwrap();
+        let at = |p: [f64; 3], v: [f64; 3]| RelativeStateHill {
+            position_m: Vector3::from(p),
+            velocity_mps: Vector3::from(v),
+        };
+        let outcome = |sim: &Simulation, i: usize, rel: RelativeStateHill| {
+            let check = divergence_check(&sim.config, &sim.satellites.fleet);
+            check(i, &rel.position_m, &rel).map(|(_, why)| why)
+        };
+        let just_beyond = 1000.0_f64.next_up();
+        for (rel, expected) in [
+            (at([1000.0, 0.0, 0.0], [0.0; 3]), None),
+            (at([0.0, 999.999_999_9, 0.0], [1.0; 3]), None),
+            (at([600.0, 0.0, 800.0], [0.0; 3]), None),
+            (
+                at([0.0, 0.0, just_beyond], [0.0; 3]),
+                Some(Divergence::TooFar {
+                    distance_m: just_beyond,
+                    limit_m: 1000.0,
+                }),
+            ),
+            (
+                at([1.0, 2.0, 3.0], [0.0, f64::NAN, 0.0]),
+                Some(Divergence::NotFinite),
+            ),
+            (
+                at([1.0, 2.0, 3.0], [0.0, 0.0, f64::NEG_INFINITY]),
+                Some(Divergence::NotFinite),
+            ),
+            (
+                at([f64::INFINITY, 0.0, 0.0], [0.0; 3]),
+                Some(Divergence::NotFinite),
+            ),
+        ] {
+            assert_eq!(outcome(&sim, 1, rel), expected, "{rel:?}");
+        }
+        let index = sim.satellites.fleet.order.index_of(2);
+        sim.satellites.fleet.active[index] = false;
+        assert_eq!(
+            outcome(&sim, index, at([f64::NAN, 0.0, 0.0], [0.0; 3])),
+            None
+        );
+    }
+
     #[test]
     fn live_separation_reads_each_live_satellites_own_radius() {
         let relative: Vec<_> = [0.0, 1.0, 1.5, 4.0].map(at_x).to_vec();
