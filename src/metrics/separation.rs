@@ -12,8 +12,9 @@
 //! smallest singular value. Then for every pair d_ij(t) ≥ σ d_ij(t_k) − e_i − e_j ≥ σ d_i(t_k) − e_i −
 //! e_max =: L_i (the plain bound with displacements is the case M = I; a swarm drifting together has
 //! residuals far below its displacements, so the bound stays tight for many more steps). The plain
-//! bound is tried first, as it needs no fitting pass; the fit only once the plain bound lets too many
-//! satellites through, and from then on until the next full search. As any affine motion gives a valid
+//! bound is tried first, as it needs no fitting pass; the fit once the plain bound lets more than a
+//! 32nd of the swarm through (the plain bound again, should the fit do worse), and from then on until the
+//! next full search. As any affine motion gives a valid
 //! bound, a snapshot after two fitted ones first uses their linear extrapolation, in the same pass that
 //! sums its own fit, and takes the fit's residuals only when the extrapolation lets too many
 //! through. The previous
@@ -192,6 +193,16 @@ fn index_of_id(positions: &impl TrackedPositions, id: usize) -> Option<usize> {
 /// Smallest number of satellites per parallel work item of the tracker's per-satellite passes.
 const PARALLEL_MIN_LEN: usize = 4096;
 
+/// A narrow search takes at most `1 / NARROW_SHARE` of the swarm as candidates; beyond that a full
+/// search is cheaper.
+const NARROW_SHARE: usize = 4;
+
+/// The plain displacement bound hands over to the fitted motion's once it lets more than
+/// `1 / PLAIN_SHARE` of the swarm through. A fitted pass costs about two plain passes; a candidate of a
+/// narrow search costs a grid slot and a nearest-neighbour query, many times one satellite's share of a
+/// pass. (Law `none` at 10⁵, 300 steps: 46–47 M sat-steps/s with a quarter, 51–52 M with a 32nd.)
+const PLAIN_SHARE: usize = 32;
+
 /// Up to this many candidates a narrow search compares all pairs directly; above it, it builds a grid of
 /// the candidates.
 const DIRECT_PAIRS_UP_TO: usize = 48;
@@ -214,8 +225,8 @@ pub struct SeparationTracker {
     slack_m: Vec<f64>,
     /// The block sums of the fit ([`AffineMotion::fit`]).
     fit_blocks: Vec<FitSums>,
-    /// Whether the plain displacement bound let too many satellites through since the last full
-    /// search, so that the fitted motion's bound is used first.
+    /// Whether the plain displacement bound let more than a 32nd of the swarm through since the last
+    /// full search, so that the fitted motion's bound is used first.
     fitted: bool,
     /// The fitted motions of the last two snapshots since the last full search (earlier, later), from
     /// which the next one is extrapolated.
@@ -406,23 +417,30 @@ impl SeparationTracker {
         let ([xa, ya, za], [xb, yb, zb]) = (positions.position_m(ia), positions.position_m(ib));
         let (dx, dy, dz) = (xb - xa, yb - ya, zb - za);
         let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
-        // The plain displacement bound (M = I) first, unless it let too many through since the last
-        // full search; then the fitted motion of the swarm.
-        let mut fitted = self.fitted;
-        loop {
-            let selected = if fitted {
-                self.select_fitted(positions, radii_m, a_max, upper_m)
-            } else {
-                let identity = AffineMotion::IDENTITY;
-                self.select_candidates(&identity, None, positions, radii_m, a_max, upper_m)
+        // The plain displacement bound (M = I) first, unless it let more than a 32nd of the swarm
+        // through since the last full search; then the fitted motion of the swarm, and the plain bound
+        // again (up to a quarter) should the fit do worse.
+        let n = positions.len();
+        let identity = AffineMotion::IDENTITY;
+        let plain = |tracker: &mut Self| {
+            tracker.select_candidates(&identity, None, positions, radii_m, a_max, upper_m)
+        };
+        let plain_enough = !self.fitted
+            && match plain(self) {
+                Some(count) => count <= n / PLAIN_SHARE,
+                // A satellite without an anchor, or a bound that is not finite.
+                None => return Ok(None),
             };
-            match selected {
-                Some(true) => break,
-                Some(false) if !fitted => fitted = true,
-                _ => return Ok(None),
+        if !plain_enough {
+            self.fitted = true;
+            let count = match self.select_fitted(positions, radii_m, a_max, upper_m) {
+                Some(count) if count <= n / NARROW_SHARE => Some(count),
+                _ => plain(self),
+            };
+            if count.is_none_or(|count| count > n / NARROW_SHARE) {
+                return Ok(None);
             }
         }
-        self.fitted = fitted;
         let m = self.candidates.len();
         self.candidate_x.clear();
         self.candidate_y.clear();
@@ -458,15 +476,15 @@ impl SeparationTracker {
 impl SeparationTracker {
     /// The candidates under the swarm's fitted motion. With the fitted motions of earlier snapshots,
     /// one pass takes every residual under their extrapolation and the sums of this snapshot's fit; the
-    /// fit's own residuals are taken only when the extrapolation lets too many through. Returns as
-    /// [`Self::select_candidates`].
+    /// fit's own residuals are taken only when the extrapolation lets more than a quarter of the swarm
+    /// through. Returns as [`Self::select_candidates`].
     fn select_fitted(
         &mut self,
         positions: &impl TrackedPositions,
         radii_m: &[f64],
         a_max: f64,
         upper_m: f64,
-    ) -> Option<bool> {
+    ) -> Option<usize> {
         let anchors = &self.anchors;
         let anchored = |k: usize| {
             anchors
@@ -481,7 +499,7 @@ impl SeparationTracker {
         };
         let fresh = match predicted {
             Some(predicted) => {
-                let chosen = self.select_candidates(
+                let count = self.select_candidates(
                     &predicted,
                     Some(origin_m),
                     positions,
@@ -491,8 +509,8 @@ impl SeparationTracker {
                 )?;
                 let fresh = AffineMotion::from_sums(&self.fit_blocks, origin_m)?;
                 self.motions = [self.motions[1], Some(fresh)];
-                if chosen {
-                    return Some(true);
+                if count <= positions.len() / NARROW_SHARE {
+                    return Some(count);
                 }
                 fresh
             }
@@ -509,8 +527,8 @@ impl SeparationTracker {
 
     /// Fills `candidates` with the satellites whose lower bound under `motion` (from the anchors to the
     /// `positions` now) does not exclude them from the minimum (`upper_m`) or from a collision:
-    /// `Some(true)` when they are at most a quarter of the satellites, `Some(false)` when more, `None`
-    /// when a satellite has no anchor or a residual or `upper_m` is not finite. With `fit_origin_m`, the
+    /// returns how many, or `None` when a satellite has no anchor or a residual or `upper_m` is not
+    /// finite. With `fit_origin_m`, the
     /// same pass also fills `fit_blocks` with the sums of this snapshot's fit about that origin
     /// ([`AffineMotion::from_sums`]).
     fn select_candidates(
@@ -521,7 +539,7 @@ impl SeparationTracker {
         radii_m: &[f64],
         a_max: f64,
         upper_m: f64,
-    ) -> Option<bool> {
+    ) -> Option<usize> {
         let n = positions.len();
         let anchors = &self.anchors;
         let contraction = motion.contraction;
@@ -577,7 +595,7 @@ impl SeparationTracker {
                     lower_m <= upper_m || lower_m < radii_m[k] + a_max
                 }),
         );
-        Some(self.candidates.len() <= n / 4)
+        Some(self.candidates.len())
     }
 }
 
