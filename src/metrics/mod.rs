@@ -4,6 +4,7 @@
 //! | --- | --- |
 //! | [`mod@five_elements`] | the five-element cluster characterisation of Gao et al. 2022 (N, r_o/v_o, d_max, d_min, L), `docs/methods/bifurcating.md` §2 |
 //! | [`separation`] | minimum centre-to-centre separation and hard-body collision counts |
+//! | `close_pairs` | the pairs of satellites close at the separation tracker's last full search, for swarms whose satellites tie at their nearest distances |
 //! | `motion_fit` | the least-squares affine motion of a swarm between two snapshots: the separation tracker's bound |
 //!
 //! Large swarms (N = 1e5) are handled exactly, without O(N²) loops in the common cases: nearest
@@ -13,6 +14,7 @@ use thiserror::Error;
 
 use crate::grid::NeighbourError;
 
+mod close_pairs;
 pub mod five_elements;
 mod motion_fit;
 pub mod separation;

@@ -32,6 +32,7 @@ use rayon::prelude::*;
 
 use nalgebra::Vector3;
 
+use super::close_pairs::ClosePairs;
 use super::motion_fit::{AffineMotion, FitSums, SUM_BLOCK};
 use super::{check_radii, MetricsError};
 use crate::grid::NeighbourGrid;
@@ -148,6 +149,21 @@ pub(crate) trait TrackedPositions: Sync {
     fn ids_known_ascending(&self) -> bool {
         false
     }
+    /// Index `k` of the satellite with id `id`, if it is there (ids ascending): a bisection unless
+    /// the implementation knows better.
+    fn index_of_id(&self, id: usize) -> Option<usize> {
+        let n = self.len();
+        let (mut low, mut high) = (0, n);
+        while low < high {
+            let mid = low + (high - low) / 2;
+            if self.id(mid) < id {
+                low = mid + 1;
+            } else {
+                high = mid;
+            }
+        }
+        (low < n && self.id(low) == id).then_some(low)
+    }
 }
 
 /// Positions given as three columns with their ids ([`SeparationTracker::update`]); equal lengths.
@@ -172,24 +188,6 @@ impl TrackedPositions for Columns<'_> {
     }
 }
 
-/// Index `k` of the satellite with id `id` in `positions` (ids ascending), if it is there.
-fn index_of_id(positions: &impl TrackedPositions, id: usize) -> Option<usize> {
-    let n = positions.len();
-    let k = {
-        let (mut low, mut high) = (0, n);
-        while low < high {
-            let mid = low + (high - low) / 2;
-            if positions.id(mid) < id {
-                low = mid + 1;
-            } else {
-                high = mid;
-            }
-        }
-        low
-    };
-    (k < n && positions.id(k) == id).then_some(k)
-}
-
 /// Smallest number of satellites per parallel work item of the tracker's per-satellite passes.
 const PARALLEL_MIN_LEN: usize = 4096;
 
@@ -202,6 +200,10 @@ const NARROW_SHARE: usize = 4;
 /// narrow search costs a grid slot and a nearest-neighbour query, many times one satellite's share of a
 /// pass. (Law `none` at 10⁵, 300 steps: 46–47 M sat-steps/s with a quarter, 51–52 M with a 32nd.)
 const PLAIN_SHARE: usize = 32;
+
+/// A full search forced by too many candidates within this many narrow searches of the previous one
+/// turns the close-pair lists on: the satellites tie at their nearest distances.
+const TIED_WITHIN: u64 = 2;
 
 /// Up to this many candidates a narrow search compares all pairs directly; above it, it builds a grid of
 /// the candidates.
@@ -237,6 +239,19 @@ pub struct SeparationTracker {
     candidate_y: Vec<f64>,
     candidate_z: Vec<f64>,
     candidate_radii: Vec<f64>,
+    /// Whether full searches list the close pairs (set for good once a full search had to follow
+    /// another within [`TIED_WITHIN`] narrow searches because too many satellites were candidates).
+    lists_pairs: bool,
+    /// The close pairs of the last full search (empty unless `lists_pairs`).
+    close_pairs: ClosePairs,
+    /// Per satellite of the last full search: the distance beyond its listed partners (m).
+    beyond_m: Vec<f64>,
+    /// The listed pairs colliding now (snapshot indices).
+    colliding: Vec<(usize, usize)>,
+    /// Whether the last narrow search failed because too many satellites were candidates.
+    crowded: bool,
+    /// Narrow searches since the last full search.
+    narrow_since_full: u64,
     full_searches: u64,
     narrow_searches: u64,
 }
@@ -247,23 +262,29 @@ impl SeparationTracker {
         Self::default()
     }
 
-    /// The caller renumbered its satellites (the engine re-sorting its storage): `move_anchors` gets
-    /// the per-id anchors, one per id `0..n` (NaN-marked where an id had none), to rearrange by the new
-    /// ids, and `new_id` maps an old id to its new one. The next update can then stay a narrow search.
-    pub(crate) fn renumber(
-        &mut self,
-        n: usize,
-        move_anchors: impl FnOnce(&mut [[f64; 4]]),
-        new_id: impl Fn(usize) -> usize,
-    ) {
+    /// The caller renumbered its satellites (the engine re-sorting its storage) so that new id `k` is
+    /// old id `moves[k]`: `move_anchors` gets the per-id anchors, one per id `0..moves.len()`
+    /// (NaN-marked where an id had none), to rearrange that way. The close pairs are renamed too, so the
+    /// next update can stay a narrow search.
+    pub(crate) fn renumber(&mut self, moves: &[u32], move_anchors: impl FnOnce(&mut [[f64; 4]])) {
+        let n = moves.len();
         if self.anchors.len() > n {
             // Ids beyond the renumbering: start afresh.
             self.anchors.clear();
+            self.close_pairs.clear();
             self.closest = None;
             return;
         }
         self.anchors.resize(n, [0.0, 0.0, 0.0, f64::NAN]);
         move_anchors(&mut self.anchors);
+        if !self.close_pairs.is_empty() {
+            let mut new_ids = vec![0u32; n];
+            for (k, &old) in moves.iter().enumerate() {
+                new_ids[old as usize] = k as u32;
+            }
+            self.close_pairs.rename(&new_ids);
+        }
+        let new_id = |old: usize| moves.iter().position(|&m| m as usize == old).unwrap_or(old);
         self.closest = self.closest.map(|(a, b)| {
             let (a, b) = (new_id(a), new_id(b));
             (a.min(b), a.max(b))
@@ -344,13 +365,19 @@ impl SeparationTracker {
             }
         }
         let a_max = check_radii(radii_m, n)?;
+        self.crowded = false;
         let separation = match self.narrow(positions, radii_m, a_max)? {
             Some(separation) => {
                 self.narrow_searches += 1;
+                self.narrow_since_full += 1;
                 separation
             }
             None => {
+                if self.crowded && self.narrow_since_full < TIED_WITHIN {
+                    self.lists_pairs = true;
+                }
                 self.full_searches += 1;
+                self.narrow_since_full = 0;
                 self.full(positions, radii_m)?
             }
         };
@@ -369,6 +396,7 @@ impl SeparationTracker {
         }
         self.fitted = false;
         self.motions = [None, None];
+        self.close_pairs.clear();
         let n = positions.len();
         let Some(cell_m) = spacing_cell_m(n, |k| positions.position_m(k)) else {
             // Every satellite at one point (a non-finite coordinate is refused by the grid below).
@@ -389,9 +417,17 @@ impl SeparationTracker {
         if self.anchors.len() < top {
             self.anchors.resize(top, [0.0, 0.0, 0.0, f64::NAN]);
         }
-        for k in 0..n {
+        // The distance that bounds each satellite's pairs: beyond its listed partners, or its nearest.
+        let bounding_m = if self.lists_pairs {
+            self.close_pairs
+                .list(&self.grid, positions, &self.nearest_m, &mut self.beyond_m);
+            &self.beyond_m
+        } else {
+            &self.nearest_m
+        };
+        for (k, &bounding_m) in bounding_m.iter().enumerate().take(n) {
             let [x, y, z] = positions.position_m(k);
-            self.anchors[positions.id(k)] = [x, y, z, self.nearest_m[k]];
+            self.anchors[positions.id(k)] = [x, y, z, bounding_m];
         }
         let (a, b) = separation.closest_pair;
         Ok(Separation {
@@ -411,12 +447,20 @@ impl SeparationTracker {
         let Some((a, b)) = self.closest else {
             return Ok(None);
         };
-        let (Some(ia), Some(ib)) = (index_of_id(positions, a), index_of_id(positions, b)) else {
+        let (Some(ia), Some(ib)) = (positions.index_of_id(a), positions.index_of_id(b)) else {
             return Ok(None);
         };
         let ([xa, ya, za], [xb, yb, zb]) = (positions.position_m(ia), positions.position_m(ib));
         let (dx, dy, dz) = (xb - xa, yb - ya, zb - za);
-        let upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
+        let mut upper_m = (dx * dx + dy * dy + dz * dz).sqrt();
+        // The listed pairs are measured directly; their closest is an upper bound too.
+        let listed = (!self.close_pairs.is_empty()).then(|| {
+            self.close_pairs
+                .measure(positions, radii_m, &mut self.colliding)
+        });
+        if let Some((d, _)) = listed.flatten() {
+            upper_m = upper_m.min(d);
+        }
         // The plain displacement bound (M = I) first, unless it let more than a 32nd of the swarm
         // through since the last full search; then the fitted motion of the swarm, and the plain bound
         // again (up to a quarter) should the fit do worse.
@@ -438,10 +482,58 @@ impl SeparationTracker {
                 _ => plain(self),
             };
             if count.is_none_or(|count| count > n / NARROW_SHARE) {
+                self.crowded = count.is_some();
                 return Ok(None);
             }
         }
+        let among_candidates = self.search_candidates(positions, radii_m)?;
+        // The minimum is a listed pair's or a pair of candidates' (see `close_pairs`); a colliding
+        // pair is counted once: among the candidates when both its ends are candidates.
+        let Some(listed) = listed else {
+            return Ok(among_candidates);
+        };
+        let candidates = &self.candidates;
+        let is_candidate = |k: usize| candidates.binary_search(&k).is_ok();
+        let listed_collisions = self
+            .colliding
+            .iter()
+            .filter(|&&(ka, kb)| !(is_candidate(ka) && is_candidate(kb)))
+            .count();
+        let best = match (listed, among_candidates) {
+            (None, None) => return Ok(None),
+            (Some(pair), None) => pair,
+            (None, Some(found)) => (found.min_distance_m, found.closest_pair),
+            (Some(pair), Some(found)) => {
+                let found_pair = (found.min_distance_m, found.closest_pair);
+                if found_pair
+                    .0
+                    .total_cmp(&pair.0)
+                    .then(found_pair.1.cmp(&pair.1))
+                    .is_lt()
+                {
+                    found_pair
+                } else {
+                    pair
+                }
+            }
+        };
+        Ok(Some(Separation {
+            min_distance_m: best.0,
+            closest_pair: best.1,
+            collisions: listed_collisions + among_candidates.map_or(0, |found| found.collisions),
+        }))
+    }
+
+    /// The separation among the selected candidates (ids in the answer), `None` with fewer than two.
+    fn search_candidates(
+        &mut self,
+        positions: &impl TrackedPositions,
+        radii_m: &[f64],
+    ) -> Result<Option<Separation>, MetricsError> {
         let m = self.candidates.len();
+        if m < 2 {
+            return Ok(None);
+        }
         self.candidate_x.clear();
         self.candidate_y.clear();
         self.candidate_z.clear();
@@ -693,6 +785,9 @@ mod tests {
         /// An integer lattice (every ninth satellite 1 m closer to its neighbour) translated by 1/8 m a
         /// step: exact distance ties everywhere.
         Lattice,
+        /// A lattice of the given spacing (m) whose satellites jitter by up to 1e-9 m a step: every
+        /// satellite ties the minimum to within the bound's rounding margin.
+        TiedLattice(f64),
         /// Uniform in a box, the whole swarm turning about z by 0.01 rad a step (satellites at the edge
         /// move 1.4 m a step) and drifting, each satellite also jittering by up to 1 mm: a swarm that
         /// moves together, nearly affinely.
@@ -757,6 +852,14 @@ mod tests {
                     ],
                     [0.125, 0.0, 0.0],
                 ),
+                Motion::TiedLattice(spacing_m) => (
+                    [
+                        (i % 7) as f64 * spacing_m,
+                        ((i / 7) % 7) as f64 * spacing_m,
+                        (i / 49) as f64 * spacing_m,
+                    ],
+                    [0.0; 3],
+                ),
             };
             position.push(p);
             velocity.push(v);
@@ -790,11 +893,7 @@ mod tests {
                 gather(&mut velocity, &moves);
                 gather(&mut radii, &moves);
                 gather(&mut live, &moves);
-                tracker.renumber(
-                    n,
-                    |anchors| gather(anchors, &moves),
-                    |old| moves.iter().position(|&m| m as usize == old).unwrap(),
-                );
+                tracker.renumber(&moves, |anchors| gather(anchors, &moves));
             }
             let narrow_before = tracker.narrow_searches();
             if removals && step > 0 && step % 7 == 0 {
@@ -835,6 +934,7 @@ mod tests {
                 }
                 let jitter = match motion {
                     Motion::Clustered => 0.02,
+                    Motion::TiedLattice(_) => 1e-9,
                     _ => 0.0,
                 };
                 for a in 0..3 {
@@ -895,6 +995,29 @@ mod tests {
     fn a_swarm_moving_together_needs_one_full_search() {
         let (full, narrow) = check_motion(Motion::Turning, 2000, 60, false, 3);
         assert_eq!((full, narrow), (1, 59));
+    }
+
+    /// A lattice whose satellites all tie at their nearest distance: after one full search that finds
+    /// every satellite a candidate, the tracker lists the close pairs and answers the other updates
+    /// by narrow searches. Every answer equals the brute force, also with the lattice's neighbours
+    /// overlapping (a 0.7 m lattice against radii up to 0.5 m: colliding pairs listed, some of them
+    /// also among the candidates, counted once), with satellites removed and brought back, and
+    /// renumbered.
+    #[test]
+    fn a_tied_lattice_is_answered_through_its_close_pairs() {
+        for spacing_m in [3.0, 0.7] {
+            for removals in [false, true] {
+                let (full, narrow) =
+                    check_motion(Motion::TiedLattice(spacing_m), 343, 40, removals, 7);
+                assert!(
+                    full <= 4 && narrow >= 36,
+                    "spacing {spacing_m} m, removals {removals}: {full} full, {narrow} narrow"
+                );
+            }
+            let (full, narrow, _) =
+                check_motion_renumbered(Motion::TiedLattice(spacing_m), 343, 40, true, true, 8);
+            assert!(full >= 1 && narrow >= 10, "{full} full, {narrow} narrow");
+        }
     }
 
     /// Many candidates (more than the direct-comparison limit) go through the candidates' own grid.

@@ -99,17 +99,21 @@ impl TrackedPositions for LivePositions<'_> {
     fn ids_known_ascending(&self) -> bool {
         true
     }
+
+    fn index_of_id(&self, id: usize) -> Option<usize> {
+        match self.listed {
+            None => (id < self.relative.len()).then_some(id),
+            Some(listed) => listed.binary_search(&id).ok(),
+        }
+    }
 }
 
 impl LiveMetrics {
     /// Moves the separation tracker's anchors (by storage index) to the storage order in which new
     /// index `k` holds old index `moves[k]`.
     pub fn move_anchors(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
-        self.tracker.renumber(
-            moves.len(),
-            |anchors| permute(anchors, moves, visited),
-            |old| moves.iter().position(|&m| m as usize == old).unwrap_or(old),
-        );
+        self.tracker
+            .renumber(moves, |anchors| permute(anchors, moves, visited));
     }
 
     pub fn new() -> Self {
