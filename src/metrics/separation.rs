@@ -25,7 +25,9 @@
 //! of 1e-9 times the largest coordinate magnitude (times 1 + ‖M‖), a million times the rounding of the
 //! distances and residuals involved, so floating
 //! point never drops a candidate. When the candidates exceed a quarter of the swarm, or the satellite set
-//! gained a member, the tracker does a full search and takes new anchors. Satellites may leave the set
+//! gained a member, or the narrow searches since the last full search have searched as many candidates as
+//! the swarm holds (anchors gone stale: pairs close then have drifted apart but keep their satellites
+//! candidates), the tracker does a full search and takes new anchors. Satellites may leave the set
 //! between snapshots (a removed satellite): the bounds of the others stay valid.
 
 use rayon::prelude::*;
@@ -252,6 +254,8 @@ pub struct SeparationTracker {
     crowded: bool,
     /// Narrow searches since the last full search.
     narrow_since_full: u64,
+    /// Candidates searched by the narrow searches since the last full search.
+    searched_since_full: usize,
     full_searches: u64,
     narrow_searches: u64,
 }
@@ -378,6 +382,7 @@ impl SeparationTracker {
                 }
                 self.full_searches += 1;
                 self.narrow_since_full = 0;
+                self.searched_since_full = 0;
                 self.full(positions, radii_m)?
             }
         };
@@ -485,6 +490,14 @@ impl SeparationTracker {
                 self.crowded = count.is_some();
                 return Ok(None);
             }
+        }
+        // Anchors go stale: pairs close at the last full search may have drifted apart, yet keep
+        // their satellites candidates. Once the narrow searches since then have searched as many
+        // candidates as the swarm holds (as much work as a full search), a full search takes new
+        // anchors instead: at most twice the work of the better choice in hindsight.
+        self.searched_since_full += self.candidates.len();
+        if self.searched_since_full > n {
+            return Ok(None);
         }
         let among_candidates = self.search_candidates(positions, radii_m)?;
         // The minimum is a listed pair's or a pair of candidates' (see `close_pairs`); a colliding
@@ -788,6 +801,9 @@ mod tests {
         /// A lattice of the given spacing (m) whose satellites jitter by up to 1e-9 m a step: every
         /// satellite ties the minimum to within the bound's rounding margin.
         TiedLattice(f64),
+        /// A tenth of the satellites in pairs 1 m apart that separate at 0.4 m a step, the others
+        /// still on a 20 m lattice: the pairs' anchors go stale while they stay candidates.
+        Separating,
         /// Uniform in a box, the whole swarm turning about z by 0.01 rad a step (satellites at the edge
         /// move 1.4 m a step) and drifting, each satellite also jittering by up to 1 mm: a swarm that
         /// moves together, nearly affinely.
@@ -852,6 +868,29 @@ mod tests {
                     ],
                     [0.125, 0.0, 0.0],
                 ),
+                Motion::Separating if i < n / 10 => {
+                    let (p, side) = ((i / 2) as f64, if i % 2 == 0 { -1.0 } else { 1.0 });
+                    let centre = [
+                        10.0 + (p % 5.0) * 20.0,
+                        10.0 + (p / 5.0).floor() % 5.0 * 20.0,
+                        10.0 + (p / 25.0).floor() * 20.0,
+                    ];
+                    (
+                        [centre[0] + side * 0.5, centre[1], centre[2]],
+                        [side * 0.2, 0.0, 0.0],
+                    )
+                }
+                Motion::Separating => {
+                    let q = i - n / 10;
+                    (
+                        [
+                            (q % 7) as f64 * 20.0,
+                            ((q / 7) % 7) as f64 * 20.0,
+                            (q / 49) as f64 * 20.0,
+                        ],
+                        [0.0; 3],
+                    )
+                }
                 Motion::TiedLattice(spacing_m) => (
                     [
                         (i % 7) as f64 * spacing_m,
@@ -915,6 +954,7 @@ mod tests {
                 p.iter().map(|q| q[2]).collect(),
             );
             let got = tracker.update(&ids, &x, &y, &z, &r).unwrap();
+            assert!(tracker.searched_since_full <= ids.len());
             let want = brute_force(&ids, &p, &r);
             assert_eq!(got, want, "{motion:?} n = {n} step {step}");
             assert_eq!(got.min_distance_m.to_bits(), want.min_distance_m.to_bits());
@@ -1018,6 +1058,15 @@ mod tests {
                 check_motion_renumbered(Motion::TiedLattice(spacing_m), 343, 40, true, true, 8);
             assert!(full >= 1 && narrow >= 10, "{full} full, {narrow} narrow");
         }
+    }
+
+    /// Pairs that start close and drift apart stay candidates under their stale anchors (a tenth of
+    /// the swarm, every step); once the narrow searches have searched as many candidates as the swarm
+    /// holds, a full search takes fresh anchors. Every answer equals the brute force.
+    #[test]
+    fn stale_anchors_are_refreshed() {
+        let (full, narrow) = check_motion(Motion::Separating, 400, 30, false, 13);
+        assert!(full >= 2 && narrow >= 20, "{full} full, {narrow} narrow");
     }
 
     /// Many candidates (more than the direct-comparison limit) go through the candidates' own grid.
