@@ -171,6 +171,16 @@ impl Drag {
         }
     }
 
+    /// A distance from the Earth's centre \[m\] beyond which every position is surely above the
+    /// atmosphere's floor, whichever height is used: a geodetic height is at least the distance from
+    /// the centre less WGS-84's equatorial radius, and 100 m more cover the heights' rounding (far
+    /// below a millimetre).
+    pub fn clear_of_floor_radius_m(&self) -> f64 {
+        self.equatorial_radius_m.max(WGS84_SEMI_MAJOR_AXIS_M)
+            + self.atmosphere.floor_altitude_m()
+            + 100.0
+    }
+
     /// The one-layer exponential atmosphere and the co-rotation flag, when this drag is the fused
     /// kernel's form (exponential density at spherical altitude); else `None`.
     pub fn fast_exponential(&self) -> Option<(Exponential, bool)> {

@@ -238,6 +238,14 @@ impl ForceSet {
         (altitude_m < floor_m || !altitude_m.is_finite()).then_some((altitude_m, floor_m))
     }
 
+    /// A squared distance from the Earth's centre \[m²\] beyond which no position is below the
+    /// atmosphere's floor ([`Self::below_floor`] is `None`); `None` without drag.
+    pub fn clear_of_floor_m2(&self) -> Option<f64> {
+        self.drag
+            .as_ref()
+            .map(|drag| drag.clear_of_floor_radius_m().powi(2))
+    }
+
     /// The models' names and the ephemerides read, for `summary.json`.
     pub fn summary(&self) -> ForceSetSummary {
         let mut models = vec![self.gravity.name()];

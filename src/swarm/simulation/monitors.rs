@@ -303,6 +303,8 @@ pub(super) fn divergence_check<'a>(
     let surely_within_m2 = (bound * (1.0 - 1e-9)).powi(2);
     // Only an atmosphere has a floor: without one, the position in the state is not read.
     let forces = config.dynamics.forces().filter(|f| f.drag().is_some());
+    // A squared distance from the Earth's centre beyond which a position is clear of the floor.
+    let clear_of_floor_m2 = forces.and_then(|f| f.clear_of_floor_m2()).unwrap_or(0.0);
     move |i, position_m, rel| {
         if !fleet.active[i] {
             return None;
@@ -311,7 +313,10 @@ pub(super) fn divergence_check<'a>(
         // have a finite sum, and any NaN or infinite one makes the sum NaN or infinite.
         let (p, v) = (&rel.position_m, &rel.velocity_mps);
         let sum = p.x + p.y + p.z + v.x + v.y + v.z;
-        if forces.is_none() && sum.is_finite() && p.norm_squared() <= surely_within_m2 {
+        if sum.is_finite()
+            && p.norm_squared() <= surely_within_m2
+            && (forces.is_none() || position_m.norm_squared() > clear_of_floor_m2)
+        {
             return None;
         }
         let reason = {
@@ -435,9 +440,6 @@ mod tests {
         }
     }
 
-    /// Four satellites on a line with radii of their own: the pairs (0, 1) and (1, 2) touch. With
-    /// satellite 1 removed nothing touches; reading satellite 1's radius for satellite 2 (a radius taken
-    /// by live rank instead of storage index) would make (0, 2) touch.
     /// The divergence check against its definition, on both sides of its quick test: a distance at
     /// the bound (1 km) or just inside passes, one ulp beyond is too far, any non-finite component
     /// (in the velocity too, and an infinite position whose squared norm is not a number to compare)
@@ -497,6 +499,58 @@ mod tests {
         );
     }
 
+    /// With drag, the divergence check's quick test lets through only positions clear of the
+    /// atmosphere's floor (100 km for the exponential layer): at 550 km nothing is reported, nor
+    /// 50 m above the floor (inside the quick test's margin, decided by the exact height); 1 m below
+    /// the floor is, with its spherical height; and on a geodetic height a position on the pole
+    /// 1 m below the floor too (its spherical height, from WGS-84's equatorial radius, would be far
+    /// below).
+    #[test]
+    fn divergence_check_with_drag_reports_the_floor() {
+        for (altitude, radius_m) in [("spherical", 6_378_137.0), ("geodetic", 6_356_752.314_245)] {
+            let text = format!(
+                "name = \"t\"\nseed = 1\nduration_s = 10.0\nrecord_interval_s = 10.0\n\
+                 [dynamics]\nmodel = \"j2\"\nintegrator = \"rk4\"\nstep_s = 1.0\n\
+                 [dynamics.forces.drag]\natmosphere = \"exponential\"\n\
+                 reference_density_kg_per_m3 = 6.967e-13\nreference_altitude_m = 500e3\n\
+                 scale_height_m = 63822.0\naltitude = \"{altitude}\"\n\
+                 [reference]\naltitude_m = 550e3\ninclination_deg = 53.0\n\
+                 [satellites]\ncount = 2\nmass_kg = 100.0\nradius_m = 0.5\ndrag_area_m2 = 0.5\n\
+                 drag_coefficient = 2.2\n\
+                 initial = {{ distribution = \"sphere\", radius_m = 50.0 }}\n\
+                 [law]\nname = \"none\"\n"
+            );
+            let scenario =
+                crate::scenario::Scenario::from_toml(&text, "t", std::path::Path::new("."))
+                    .unwrap();
+            let sim = crate::run::build_simulation(&scenario).unwrap();
+            let check = divergence_check(&sim.config, &sim.satellites.fleet);
+            let near = at_x(10.0);
+            let on_pole = |height_m: f64| Vector3::new(0.0, 0.0, radius_m + height_m);
+            assert_eq!(check(0, &on_pole(550e3), &near), None, "{altitude}");
+            assert_eq!(check(0, &on_pole(100e3 + 50.0), &near), None, "{altitude}");
+            match check(0, &on_pole(100e3 - 1.0), &near) {
+                Some((
+                    _,
+                    Divergence::BelowAtmosphere {
+                        altitude_m,
+                        floor_m,
+                    },
+                )) => {
+                    assert_eq!(floor_m, 100e3);
+                    assert!(
+                        (altitude_m - (100e3 - 1.0)).abs() < 1e-3,
+                        "{altitude}: {altitude_m}"
+                    );
+                }
+                other => panic!("{altitude}: {other:?}"),
+            }
+        }
+    }
+
+    /// Four satellites on a line with radii of their own: the pairs (0, 1) and (1, 2) touch. With
+    /// satellite 1 removed nothing touches; reading satellite 1's radius for satellite 2 (a radius taken
+    /// by live rank instead of storage index) would make (0, 2) touch.
     #[test]
     fn live_separation_reads_each_live_satellites_own_radius() {
         let relative: Vec<_> = [0.0, 1.0, 1.5, 4.0].map(at_x).to_vec();
