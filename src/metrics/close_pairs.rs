@@ -48,7 +48,8 @@ impl ClosePairs {
 
     /// Lists the close pairs of the snapshot `positions` in `grid` (built over the snapshot's indices)
     /// with nearest-neighbour distances `nearest_m` (m), and writes each satellite's distance beyond its
-    /// list into `beyond_m` (m, by snapshot index). Ids above `u32::MAX` list nobody.
+    /// list into `beyond_m` (m, by snapshot index). A satellite whose id, or a partner's, is above
+    /// `u32::MAX` lists nobody.
     pub fn list(
         &mut self,
         grid: &NeighbourGrid,
@@ -68,6 +69,7 @@ impl ClosePairs {
                     let nearest = nearest_m[k];
                     let band = nearest * (1.0 + LIST_BAND);
                     let reach = nearest * BEYOND_REACH;
+                    // The listed partners' ids.
                     let mut listed = [0u32; MAX_LISTED];
                     let (mut count, mut overflow) = (0, false);
                     // Partners not visited are farther than the reach.
@@ -75,24 +77,26 @@ impl ClosePairs {
                     grid.for_each_within(k, reach, |nb| {
                         if nb.distance_m > band {
                             *beyond = beyond.min(nb.distance_m);
-                        } else if count < MAX_LISTED {
-                            listed[count] = nb.index as u32;
+                        } else if let (true, Ok(id)) =
+                            (count < MAX_LISTED, u32::try_from(positions.id(nb.index)))
+                        {
+                            listed[count] = id;
                             count += 1;
                         } else {
                             overflow = true;
                         }
                     });
-                    let own = u32::try_from(positions.id(k)).ok();
-                    if overflow || own.is_none() || !reach.is_finite() {
+                    let own = u32::try_from(positions.id(k));
+                    if overflow || own.is_err() || !reach.is_finite() {
                         // Nobody listed: every partner is at least the nearest distance away.
                         *beyond = nearest;
                         count = 0;
                     }
                     let own = own.unwrap_or(0);
-                    listed.into_iter().take(count).filter_map(move |j| {
-                        let other = u32::try_from(positions.id(j as usize)).ok()?;
-                        Some((own.min(other), own.max(other)))
-                    })
+                    listed
+                        .into_iter()
+                        .take(count)
+                        .map(move |other| (own.min(other), own.max(other)))
                 }),
         );
         self.pairs.par_sort_unstable();
