@@ -82,6 +82,15 @@ pub enum MetricsError {
         /// Position of the first offending entry.
         index: usize,
     },
+    /// A satellite identifier too large for the separation tracker, which keeps 32 bytes per id up
+    /// to the largest (ids are meant to be dense, like storage indices).
+    #[error("satellite id {id} is too large for the separation tracker (allowed: id < {limit})")]
+    IdTooLarge {
+        /// The largest id given.
+        id: usize,
+        /// The bound, [`crate::grid::MAX_POINTS`].
+        limit: usize,
+    },
     /// The neighbour grid rejected its input.
     #[error(transparent)]
     Grid(#[from] NeighbourError),

@@ -37,7 +37,7 @@ use nalgebra::Vector3;
 use super::close_pairs::ClosePairs;
 use super::motion_fit::{AffineMotion, FitSums, SUM_BLOCK};
 use super::{check_radii, MetricsError};
-use crate::grid::NeighbourGrid;
+use crate::grid::{NeighbourGrid, MAX_POINTS};
 
 /// Separation summary of a swarm snapshot.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -313,8 +313,10 @@ impl SeparationTracker {
     /// # Errors
     /// [`MetricsError::TooFewSatellites`] with fewer than two satellites; [`MetricsError::LengthMismatch`]
     /// when the slices differ in length; [`MetricsError::UnorderedIds`] when `ids` is not strictly
-    /// ascending; [`MetricsError::InvalidRadius`]; [`MetricsError::Grid`] for a non-finite position. After
-    /// an error the next update is a full search.
+    /// ascending; [`MetricsError::IdTooLarge`] for an id of [`crate::grid::MAX_POINTS`] or more (the
+    /// tracker keeps 32 bytes per id up to the largest: give dense ids, like indices);
+    /// [`MetricsError::InvalidRadius`]; [`MetricsError::Grid`] for a non-finite position. After an error
+    /// the next update is a full search.
     pub fn update(
         &mut self,
         ids: &[usize],
@@ -367,6 +369,14 @@ impl SeparationTracker {
             if let Some(index) = (1..n).find(|&k| positions.id(k) <= positions.id(k - 1)) {
                 return Err(MetricsError::UnorderedIds { index });
             }
+        }
+        // The ids index the per-id anchors (ascending: the last is the largest).
+        let largest_id = positions.id(n - 1);
+        if largest_id >= MAX_POINTS {
+            return Err(MetricsError::IdTooLarge {
+                id: largest_id,
+                limit: MAX_POINTS,
+            });
         }
         let a_max = check_radii(radii_m, n)?;
         self.crowded = false;
@@ -1095,6 +1105,11 @@ mod tests {
         assert!(matches!(
             tracker.update(&[1], &[0.0], &[0.0], &[0.0], &[0.0]),
             Err(MetricsError::TooFewSatellites { n: 1 })
+        ));
+        // An id the per-id anchors cannot hold is refused, not allocated for.
+        assert!(matches!(
+            tracker.update(&[0, 1 << 33], &[0.0, 1.0], &[0.0; 2], &[0.0; 2], &[0.0; 2]),
+            Err(MetricsError::IdTooLarge { id, limit: MAX_POINTS }) if id == 1 << 33
         ));
         assert!(tracker
             .update(&[0, 1], &[0.0, f64::NAN], &[0.0; 2], &[0.0; 2], &[0.0; 2])
