@@ -29,6 +29,12 @@
 //! the swarm holds (anchors gone stale: pairs close then have drifted apart but keep their satellites
 //! candidates), the tracker does a full search and takes new anchors. Satellites may leave the set
 //! between snapshots (a removed satellite): the bounds of the others stay valid.
+//!
+//! **Tied swarms.** On a lattice every satellite ties the minimum within the margin, so every one is a
+//! candidate. Once that forces a full search within two narrow ones of the last, full searches also list
+//! each satellite's close partners (`close_pairs`): d_i is replaced by the distance beyond the list, the
+//! listed pairs are measured directly (their closest also bounds the minimum from above), and the answer
+//! is the better of theirs and the candidates', a colliding pair counted once.
 
 use rayon::prelude::*;
 
