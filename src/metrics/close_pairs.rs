@@ -15,7 +15,7 @@
 
 use rayon::prelude::*;
 
-use super::separation::TrackedPositions;
+use super::separation::{nearer, TrackedPositions};
 use crate::grid::NeighbourGrid;
 
 /// A satellite lists the partners within `(1 + LIST_BAND)` times its nearest-neighbour distance.
@@ -47,26 +47,23 @@ impl ClosePairs {
     }
 
     /// Lists the close pairs of the snapshot `positions` in `grid` (built over the snapshot's indices)
-    /// with nearest-neighbour distances `nearest_m` (m), and writes each satellite's distance beyond its
-    /// list into `beyond_m` (m, by snapshot index). A satellite whose id, or a partner's, is above
-    /// `u32::MAX` lists nobody.
+    /// and replaces each satellite's nearest-neighbour distance in `bound_m` (m, by snapshot index) by
+    /// the distance beyond its list. A satellite whose id, or a partner's, is above `u32::MAX` lists
+    /// nobody (its distance stays the nearest).
     pub fn list(
         &mut self,
         grid: &NeighbourGrid,
         positions: &impl TrackedPositions,
-        nearest_m: &[f64],
-        beyond_m: &mut Vec<f64>,
+        bound_m: &mut [f64],
     ) {
-        let n = positions.len();
-        beyond_m.resize(n, 0.0);
         self.pairs.clear();
         self.pairs.par_extend(
-            beyond_m
+            bound_m
                 .par_iter_mut()
                 .enumerate()
                 .with_min_len(PARALLEL_MIN_LEN)
                 .flat_map_iter(|(k, beyond)| {
-                    let nearest = nearest_m[k];
+                    let nearest = *beyond;
                     let band = nearest * (1.0 + LIST_BAND);
                     let reach = nearest * BEYOND_REACH;
                     // The listed partners' ids.
@@ -135,15 +132,6 @@ impl ClosePairs {
             let d = (dx * dx + dy * dy + dz * dz).sqrt();
             Some((d, (ka, kb), d < radii_m[ka] + radii_m[kb]))
         };
-        let closer = |a: Closest, b: Closest| match (a, b) {
-            (Some(x), Some(y)) => Some(if y.0.total_cmp(&x.0).then(y.1.cmp(&x.1)).is_lt() {
-                y
-            } else {
-                x
-            }),
-            (x, None) => x,
-            (None, y) => y,
-        };
         let (closest, collisions) = self
             .pairs
             .par_iter()
@@ -156,7 +144,10 @@ impl ClosePairs {
                     )
                 })
             })
-            .reduce(|| (None, 0), |(a, n), (b, m)| (closer(a, b), n + m));
+            .reduce(
+                || (None, 0),
+                |(a, n), (b, m)| (a.into_iter().chain(b).reduce(nearer), n + m),
+            );
         colliding.clear();
         if collisions > 0 {
             colliding.par_extend(

@@ -93,7 +93,7 @@ fn search(
                 (nb.distance_m, (i.min(nb.index), i.max(nb.index)))
             })
         })
-        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .reduce_with(nearer)
         .expect("a grid with two or more satellites has a nearest neighbour");
     let collisions = (0..n)
         .into_par_iter()
@@ -114,6 +114,16 @@ fn search(
         closest_pair,
         collisions,
     })
+}
+
+/// The nearer of two pairs given as (distance (m), pair): the smaller distance, then the
+/// lexicographically smaller pair (the tie-break of [`Separation::closest_pair`]).
+pub(super) fn nearer(a: (f64, (usize, usize)), b: (f64, (usize, usize))) -> (f64, (usize, usize)) {
+    if b.0.total_cmp(&a.0).then(b.1.cmp(&a.1)).is_lt() {
+        b
+    } else {
+        a
+    }
 }
 
 /// A grid cell edge (m) that suits an exact nearest-neighbour search over the `count` positions
@@ -252,12 +262,8 @@ pub struct SeparationTracker {
     lists_pairs: bool,
     /// The close pairs of the last full search (empty unless `lists_pairs`).
     close_pairs: ClosePairs,
-    /// Per satellite of the last full search: the distance beyond its listed partners (m).
-    beyond_m: Vec<f64>,
     /// The listed pairs colliding now (snapshot indices).
     colliding: Vec<(usize, usize)>,
-    /// Whether the last narrow search failed because too many satellites were candidates.
-    crowded: bool,
     /// Narrow searches since the last full search.
     narrow_since_full: u64,
     /// Candidates searched by the narrow searches since the last full search.
@@ -385,7 +391,6 @@ impl SeparationTracker {
             });
         }
         let a_max = check_radii(radii_m, n)?;
-        self.crowded = false;
         let separation = match self.narrow(positions, radii_m, a_max)? {
             Some(separation) => {
                 self.narrow_searches += 1;
@@ -393,9 +398,6 @@ impl SeparationTracker {
                 separation
             }
             None => {
-                if self.crowded && self.narrow_since_full < TIED_WITHIN {
-                    self.lists_pairs = true;
-                }
                 self.full_searches += 1;
                 self.narrow_since_full = 0;
                 self.searched_since_full = 0;
@@ -439,16 +441,13 @@ impl SeparationTracker {
             self.anchors.resize(top, [0.0, 0.0, 0.0, f64::NAN]);
         }
         // The distance that bounds each satellite's pairs: beyond its listed partners, or its nearest.
-        let bounding_m = if self.lists_pairs {
+        if self.lists_pairs {
             self.close_pairs
-                .list(&self.grid, positions, &self.nearest_m, &mut self.beyond_m);
-            &self.beyond_m
-        } else {
-            &self.nearest_m
-        };
-        for (k, &bounding_m) in bounding_m.iter().enumerate().take(n) {
+                .list(&self.grid, positions, &mut self.nearest_m);
+        }
+        for k in 0..n {
             let [x, y, z] = positions.position_m(k);
-            self.anchors[positions.id(k)] = [x, y, z, bounding_m];
+            self.anchors[positions.id(k)] = [x, y, z, self.nearest_m[k]];
         }
         let (a, b) = separation.closest_pair;
         Ok(Separation {
@@ -503,7 +502,10 @@ impl SeparationTracker {
                 _ => plain(self),
             };
             if count.is_none_or(|count| count > n / NARROW_SHARE) {
-                self.crowded = count.is_some();
+                // Too many candidates so soon after a full search: the satellites tie.
+                if count.is_some() && self.narrow_since_full < TIED_WITHIN {
+                    self.lists_pairs = true;
+                }
                 return Ok(None);
             }
         }
@@ -528,23 +530,9 @@ impl SeparationTracker {
             .iter()
             .filter(|&&(ka, kb)| !(is_candidate(ka) && is_candidate(kb)))
             .count();
-        let best = match (listed, among_candidates) {
-            (None, None) => return Ok(None),
-            (Some(pair), None) => pair,
-            (None, Some(found)) => (found.min_distance_m, found.closest_pair),
-            (Some(pair), Some(found)) => {
-                let found_pair = (found.min_distance_m, found.closest_pair);
-                if found_pair
-                    .0
-                    .total_cmp(&pair.0)
-                    .then(found_pair.1.cmp(&pair.1))
-                    .is_lt()
-                {
-                    found_pair
-                } else {
-                    pair
-                }
-            }
+        let found = among_candidates.map(|found| (found.min_distance_m, found.closest_pair));
+        let Some(best) = listed.into_iter().chain(found).reduce(nearer) else {
+            return Ok(None);
         };
         Ok(Some(Separation {
             min_distance_m: best.0,
