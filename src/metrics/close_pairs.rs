@@ -146,7 +146,13 @@ impl ClosePairs {
             })
             .reduce(
                 || (None, 0),
-                |(a, n), (b, m)| (a.into_iter().chain(b).reduce(nearer), n + m),
+                |(a, n), (b, m)| {
+                    let closest = match (a, b) {
+                        (Some(a), Some(b)) => Some(nearer(a, b)),
+                        (a, b) => a.or(b),
+                    };
+                    (closest, n + m)
+                },
             );
         colliding.clear();
         if collisions > 0 {
