@@ -1,9 +1,11 @@
 //! The squared-distance prefilter of a fixed-radius grid query: which of a batch of up to
 //! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Two copies that give the same
 //! answers: a portable branch-free loop (one candidate per iteration) and, on x86-64 CPUs with
-//! AVX-512F and AVX-512VL (detected at run time), eight candidates per instruction with their passing
+//! AVX-512F, AVX-512VL and POPCNT (detected at run time), eight candidates per instruction with their passing
 //! slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
 //! same order (no fused multiply-add), so they pass exactly the same candidates.
+
+use std::mem::MaybeUninit;
 
 use super::SCAN_BATCH;
 
@@ -44,6 +46,7 @@ pub(crate) fn avx512_available() -> bool {
     {
         std::arch::is_x86_feature_detected!("avx512f")
             && std::arch::is_x86_feature_detected!("avx512vl")
+            && std::arch::is_x86_feature_detected!("popcnt")
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -62,10 +65,15 @@ impl Prefilter {
 
 /// One copy of the prefilter as a type, so that a query is compiled once per copy with the copy's
 /// batches inlined into its row loop.
-pub(crate) trait Batches: Copy {
+///
+/// # Safety
+/// [`Batches::passing`] must write the first entries of `passed`, as many as it returns: the query
+/// reads them as initialised.
+#[allow(unsafe_code)]
+pub(crate) unsafe trait Batches: Copy {
     /// Writes to the front of `passed`, ascending, the storage slots `first_slot + o` of the
     /// `candidates` `(xs[o], ys[o], zs[o])` whose squared distance from `p` (m) is at most `reach2`
-    /// (m²), and returns how many there are.
+    /// (m²), and returns how many there are (at most the number of candidates).
     ///
     /// # Panics
     /// If the slices differ in length or are longer than [`SCAN_BATCH`].
@@ -74,7 +82,7 @@ pub(crate) trait Batches: Copy {
         candidates: Candidates<'_>,
         p: [f64; 3],
         reach2: f64,
-        passed: &mut [u32; SCAN_BATCH],
+        passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
     ) -> usize;
 }
 
@@ -82,26 +90,31 @@ pub(crate) trait Batches: Copy {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PortableBatches;
 
-impl Batches for PortableBatches {
+// SAFETY: `passing_portable` writes every entry below the count it returns.
+#[allow(unsafe_code)]
+unsafe impl Batches for PortableBatches {
     #[inline(always)]
     fn passing(
         self,
         candidates: Candidates<'_>,
         p: [f64; 3],
         reach2: f64,
-        passed: &mut [u32; SCAN_BATCH],
+        passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
     ) -> usize {
         check_lengths(candidates);
         passing_portable(candidates, p, reach2, passed)
     }
 }
 
-/// The AVX-512 copy's batches: a value exists only on a CPU with AVX-512F and AVX-512VL (made by
+/// The AVX-512 copy's batches: a value exists only on a CPU with AVX-512F, AVX-512VL and POPCNT (made by
 /// [`Prefilter::avx512`] after the run-time check), which is what makes its batches safe to run.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx512Batches(());
 
-impl Batches for Avx512Batches {
+// SAFETY: `passing_avx512` stores eight slots at each running count below the count it returns,
+// and the portable fallback writes every entry below its count.
+#[allow(unsafe_code)]
+unsafe impl Batches for Avx512Batches {
     #[inline(always)]
     #[allow(unsafe_code)]
     fn passing(
@@ -109,12 +122,12 @@ impl Batches for Avx512Batches {
         candidates: Candidates<'_>,
         p: [f64; 3],
         reach2: f64,
-        passed: &mut [u32; SCAN_BATCH],
+        passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
     ) -> usize {
         check_lengths(candidates);
         #[cfg(target_arch = "x86_64")]
         {
-            // SAFETY: `self` exists, so the CPU has AVX-512F and AVX-512VL, the only features the
+            // SAFETY: `self` exists, so the CPU has AVX-512F, AVX-512VL and POPCNT, the only features the
             // function enables; the lengths were checked above.
             unsafe { passing_avx512(candidates, p, reach2, passed) }
         }
@@ -138,7 +151,7 @@ fn passing_portable(
     candidates: Candidates<'_>,
     p: [f64; 3],
     reach2: f64,
-    passed: &mut [u32; SCAN_BATCH],
+    passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
 ) -> usize {
     let Candidates {
         xs,
@@ -149,7 +162,7 @@ fn passing_portable(
     let mut count = 0;
     for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
         let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
-        passed[count] = first_slot + offset as u32;
+        passed[count].write(first_slot + offset as u32);
         count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
     }
     count
@@ -159,17 +172,17 @@ fn passing_portable(
 /// compressed to the front of a 256-bit register and stored at the current count.
 ///
 /// # Safety
-/// The CPU must have AVX-512F and AVX-512VL; the three coordinate slices must have one length, at
+/// The CPU must have AVX-512F, AVX-512VL and POPCNT; the three coordinate slices must have one length, at
 /// most [`SCAN_BATCH`].
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512vl")]
+#[target_feature(enable = "avx512f,avx512vl,popcnt")]
 #[allow(unsafe_code)]
 #[inline]
 unsafe fn passing_avx512(
     candidates: Candidates<'_>,
     p: [f64; 3],
     reach2: f64,
-    passed: &mut [u32; SCAN_BATCH],
+    passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
 ) -> usize {
     use std::arch::x86_64::*;
     let Candidates {
@@ -285,7 +298,7 @@ pub(super) mod tests {
                 .map(|o| first_slot + o as u32)
                 .collect();
             for copy in copies() {
-                let mut passed = [u32::MAX; SCAN_BATCH];
+                let mut passed = [MaybeUninit::new(u32::MAX); SCAN_BATCH];
                 let candidates = Candidates {
                     xs: &xs,
                     ys: &ys,
@@ -296,7 +309,13 @@ pub(super) mod tests {
                     Some(avx512) => avx512.passing(candidates, p, reach2, &mut passed),
                     None => PortableBatches.passing(candidates, p, reach2, &mut passed),
                 };
-                assert_eq!(&passed[..count], &expected[..], "{copy:?}, n = {n}");
+                // SAFETY: every entry was initialised above.
+                #[allow(unsafe_code)]
+                let passed: Vec<u32> = passed[..count]
+                    .iter()
+                    .map(|s| unsafe { s.assume_init() })
+                    .collect();
+                assert_eq!(passed, expected, "{copy:?}, n = {n}");
             }
         }
     }
