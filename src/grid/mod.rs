@@ -306,11 +306,39 @@ impl NeighbourGrid {
         if n > MAX_POINTS {
             return Err(NeighbourError::TooManyPoints { n, max: MAX_POINTS });
         }
-        if let Some(i) = (0..n)
+        // The bounding box (minima and maxima: the same values whatever the split), and whether every
+        // coordinate is finite, in one pass.
+        let (mut lo, mut hi, finite) = (0..n)
             .into_par_iter()
             .with_min_len(PARALLEL_MIN_LEN)
-            .position_first(|i| !position_m(i).iter().all(|v| v.is_finite()))
-        {
+            .fold(
+                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true),
+                |(mut lo, mut hi, mut finite), i| {
+                    for (a, v) in position_m(i).into_iter().enumerate() {
+                        lo[a] = lo[a].min(v);
+                        hi[a] = hi[a].max(v);
+                        finite &= v.is_finite();
+                    }
+                    (lo, hi, finite)
+                },
+            )
+            .reduce(
+                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true),
+                |(lo_a, hi_a, finite_a), (lo_b, hi_b, finite_b)| {
+                    (
+                        [0, 1, 2].map(|a| lo_a[a].min(lo_b[a])),
+                        [0, 1, 2].map(|a| hi_a[a].max(hi_b[a])),
+                        finite_a && finite_b,
+                    )
+                },
+            );
+        if !finite {
+            // The first satellite with a non-finite coordinate (a search only on this error path).
+            let i = (0..n)
+                .into_par_iter()
+                .with_min_len(PARALLEL_MIN_LEN)
+                .position_first(|i| !position_m(i).iter().all(|v| v.is_finite()))
+                .expect("a non-finite coordinate was seen");
             let [x_m, y_m, z_m] = position_m(i);
             return Err(NeighbourError::NonFinitePosition {
                 index: i,
@@ -319,29 +347,6 @@ impl NeighbourGrid {
                 z_m,
             });
         }
-        // The bounding box (minima and maxima: the same values whatever the split).
-        let (mut lo, mut hi) = (0..n)
-            .into_par_iter()
-            .with_min_len(PARALLEL_MIN_LEN)
-            .fold(
-                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                |(mut lo, mut hi), i| {
-                    for (a, v) in position_m(i).into_iter().enumerate() {
-                        lo[a] = lo[a].min(v);
-                        hi[a] = hi[a].max(v);
-                    }
-                    (lo, hi)
-                },
-            )
-            .reduce(
-                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                |(lo_a, hi_a), (lo_b, hi_b)| {
-                    (
-                        [0, 1, 2].map(|a| lo_a[a].min(lo_b[a])),
-                        [0, 1, 2].map(|a| hi_a[a].max(hi_b[a])),
-                    )
-                },
-            );
         if n == 0 {
             lo = [0.0; 3];
             hi = [0.0; 3];
