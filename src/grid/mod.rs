@@ -607,15 +607,15 @@ impl NeighbourGrid {
         match self.prefilter.avx512() {
             #[cfg(target_arch = "x86_64")]
             #[allow(unsafe_code)]
-            // SAFETY: `batches` exists only on a CPU with AVX-512F, AVX-512VL and POPCNT, the features the
-            // function enables.
+            // SAFETY: `batches` exists only on a CPU with AVX-512F, AVX-512VL and POPCNT, the
+            // features the function enables.
             Some(batches) => unsafe { self.within_avx512(batches, si, reach_m, visit) },
             _ => self.within(PortableBatches, si, reach_m, visit),
         }
     }
 
-    /// [`Self::within`] compiled with AVX-512F, AVX-512VL and POPCNT enabled, for their batches (`batches`
-    /// proves the CPU has them).
+    /// [`Self::within`] compiled with AVX-512F, AVX-512VL and POPCNT enabled, for their batches
+    /// (`batches` proves the CPU has them).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,avx512vl,popcnt")]
     fn within_avx512(

@@ -1,8 +1,8 @@
 //! The squared-distance prefilter of a fixed-radius grid query: which of a batch of up to
 //! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Two copies that give the same
 //! answers: a portable branch-free loop (one candidate per iteration) and, on x86-64 CPUs with
-//! AVX-512F, AVX-512VL and POPCNT (detected at run time), eight candidates per instruction with their passing
-//! slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
+//! AVX-512F, AVX-512VL and POPCNT (detected at run time), eight candidates per instruction with
+//! their passing slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
 //! same order (no fused multiply-add), so they pass exactly the same candidates.
 
 use std::mem::MaybeUninit;
@@ -106,8 +106,9 @@ unsafe impl Batches for PortableBatches {
     }
 }
 
-/// The AVX-512 copy's batches: a value exists only on a CPU with AVX-512F, AVX-512VL and POPCNT (made by
-/// [`Prefilter::avx512`] after the run-time check), which is what makes its batches safe to run.
+/// The AVX-512 copy's batches: a value exists only on a CPU with AVX-512F, AVX-512VL and POPCNT
+/// (made by [`Prefilter::avx512`] after the run-time check), which is what makes its batches safe to
+/// run.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Avx512Batches(());
 
@@ -127,8 +128,8 @@ unsafe impl Batches for Avx512Batches {
         check_lengths(candidates);
         #[cfg(target_arch = "x86_64")]
         {
-            // SAFETY: `self` exists, so the CPU has AVX-512F, AVX-512VL and POPCNT, the only features the
-            // function enables; the lengths were checked above.
+            // SAFETY: `self` exists, so the CPU has AVX-512F, AVX-512VL and POPCNT, the only features
+            // the function enables; the lengths were checked above.
             unsafe { passing_avx512(candidates, p, reach2, passed) }
         }
         #[cfg(not(target_arch = "x86_64"))]
@@ -172,8 +173,8 @@ fn passing_portable(
 /// compressed to the front of a 256-bit register and stored at the current count.
 ///
 /// # Safety
-/// The CPU must have AVX-512F, AVX-512VL and POPCNT; the three coordinate slices must have one length, at
-/// most [`SCAN_BATCH`].
+/// The CPU must have AVX-512F, AVX-512VL and POPCNT; the three coordinate slices must have one
+/// length, at most [`SCAN_BATCH`].
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,popcnt")]
 #[allow(unsafe_code)]

@@ -7,6 +7,7 @@
 use nalgebra::Vector3;
 
 use crate::conjunction::{ConjunctionMonitor, SwarmSegment};
+use crate::dynamics::ForceSet;
 use crate::environment::{closest_approach_to_threat, HermiteSegment};
 use crate::metrics::{FiveElementsWorkspace, MetricsError, SeparationTracker, TrackedPositions};
 use crate::orbit::{CartesianState, LvlhFrame, RelativeStateHill};
@@ -303,8 +304,9 @@ pub(super) fn divergence_check<'a>(
     let surely_within_m2 = (bound * (1.0 - 1e-9)).powi(2);
     // Only an atmosphere has a floor: without one, the position in the state is not read.
     let forces = config.dynamics.forces().filter(|f| f.drag().is_some());
-    // A squared distance from the Earth's centre beyond which a position is clear of the floor.
-    let clear_of_floor_m2 = forces.and_then(|f| f.clear_of_floor_m2()).unwrap_or(0.0);
+    // A squared distance from the Earth's centre beyond which a position is clear of the floor
+    // (`None`: no floor).
+    let clear_of_floor_m2 = forces.and_then(ForceSet::clear_of_floor_m2);
     move |i, position_m, rel| {
         if !fleet.active[i] {
             return None;
@@ -315,7 +317,7 @@ pub(super) fn divergence_check<'a>(
         let sum = p.x + p.y + p.z + v.x + v.y + v.z;
         if sum.is_finite()
             && p.norm_squared() <= surely_within_m2
-            && (forces.is_none() || position_m.norm_squared() > clear_of_floor_m2)
+            && clear_of_floor_m2.is_none_or(|clear_m2| position_m.norm_squared() > clear_m2)
         {
             return None;
         }
