@@ -48,8 +48,7 @@ impl ClosePairs {
 
     /// Lists the close pairs of the snapshot `positions` in `grid` (built over the snapshot's indices)
     /// and replaces each satellite's nearest-neighbour distance in `bound_m` (m, by snapshot index) by
-    /// the distance beyond its list. A satellite whose id, or a partner's, is above `u32::MAX` lists
-    /// nobody (its distance stays the nearest).
+    /// the distance beyond its list.
     pub fn list(
         &mut self,
         grid: &NeighbourGrid,
@@ -74,22 +73,19 @@ impl ClosePairs {
                     grid.for_each_within(k, reach, |nb| {
                         if nb.distance_m > band {
                             *beyond = beyond.min(nb.distance_m);
-                        } else if let (true, Ok(id)) =
-                            (count < MAX_LISTED, u32::try_from(positions.id(nb.index)))
-                        {
-                            listed[count] = id;
+                        } else if count < MAX_LISTED {
+                            listed[count] = pair_id(positions, nb.index);
                             count += 1;
                         } else {
                             overflow = true;
                         }
                     });
-                    let own = u32::try_from(positions.id(k));
-                    if overflow || own.is_err() || !reach.is_finite() {
+                    if overflow || !reach.is_finite() {
                         // Nobody listed: every partner is at least the nearest distance away.
                         *beyond = nearest;
                         count = 0;
                     }
-                    let own = own.unwrap_or(0);
+                    let own = pair_id(positions, k);
                     listed
                         .into_iter()
                         .take(count)
@@ -165,4 +161,10 @@ impl ClosePairs {
         }
         closest
     }
+}
+
+/// The id of the satellite at snapshot index `k`, as a pair stores it: the tracker refuses ids of
+/// [`crate::grid::MAX_POINTS`] (2^28) or more before it lists any pair, so every id fits 32 bits.
+fn pair_id(positions: &impl TrackedPositions, k: usize) -> u32 {
+    u32::try_from(positions.id(k)).expect("ids below grid::MAX_POINTS, checked by the tracker")
 }
