@@ -40,6 +40,7 @@ use std::fmt;
 use nalgebra::Vector3;
 
 pub use atmosphere::{Atmosphere, Exponential, ExponentialTable, HarrisPriester, FLOOR_ALTITUDE_M};
+pub(crate) use atmosphere::{ExpTable, IndexedExpTable, PermutedExpTable};
 pub use config::{
     AltitudeName, AtmosphereName, BodyName, DragConfig, ForceConfigError, ForcesConfig,
     ForcesFileError, GravityConfig, GravityModelName, ShadowName, SrpConfig, ThirdBodyConfig,

@@ -36,7 +36,10 @@
 use nalgebra::Vector3;
 
 use super::rk4::{StepPlan, A, B};
-use crate::dynamics::{speed_from_square_m_s, Exponential, FastForces, EARTH_ROTATION_RAD_S};
+use crate::dynamics::{
+    speed_from_square_m_s, ExpTable, Exponential, FastForces, IndexedExpTable, PermutedExpTable,
+    EARTH_ROTATION_RAD_S,
+};
 use crate::orbit::{EarthModel, GravityModel};
 
 /// Satellites per parallel chunk: splits of the work fall on multiples of it.
@@ -459,10 +462,12 @@ impl Job {
     fn run(&self, part: Part<'_>) {
         #[cfg(target_arch = "x86_64")]
         match self.simd {
-            Simd::Avx512 if std::arch::is_x86_feature_detected!("avx512f") => {
-                // SAFETY: the CPU has AVX-512F (detected on the line above), the only feature the
-                // function enables.
-                return unsafe { run_avx512(self, part) };
+            Simd::Avx512 => {
+                if let Some(table) = PermutedExpTable::new() {
+                    // SAFETY: the CPU has AVX-512F (`table` exists), the only feature the function
+                    // enables.
+                    return unsafe { run_avx512(self, part, table) };
+                }
             }
             Simd::Avx2 if std::arch::is_x86_feature_detected!("avx2") => {
                 // SAFETY: the CPU has AVX2 (detected on the line above), the only feature the function
@@ -471,22 +476,22 @@ impl Job {
             }
             _ => {}
         }
-        run_lanes::<PORTABLE_LANES>(self, part);
+        run_lanes::<PORTABLE_LANES>(self, part, IndexedExpTable);
     }
 }
 
 /// The kernel compiled for AVX-512F.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn run_avx512(job: &Job, part: Part<'_>) {
-    run_lanes::<AVX512_LANES>(job, part);
+fn run_avx512(job: &Job, part: Part<'_>, table: PermutedExpTable) {
+    run_lanes::<AVX512_LANES>(job, part, table);
 }
 
 /// The kernel compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn run_avx2(job: &Job, part: Part<'_>) {
-    run_lanes::<AVX2_LANES>(job, part);
+    run_lanes::<AVX2_LANES>(job, part, IndexedExpTable);
 }
 
 /// `L` quantities of one kind, one per lane.
@@ -495,7 +500,7 @@ type Lanes<const L: usize> = [f64; L];
 type Vec3<const L: usize> = [Lanes<L>; 3];
 
 #[inline(always)]
-fn run_lanes<const L: usize>(job: &Job, part: Part<'_>) {
+fn run_lanes<const L: usize>(job: &Job, part: Part<'_>, table: impl ExpTable) {
     let drag = match job.drag {
         None => NO_DRAG,
         Some(DragConstants {
@@ -506,12 +511,12 @@ fn run_lanes<const L: usize>(job: &Job, part: Part<'_>) {
         }) => DRAG_COROTATING,
     };
     match (job.j2, drag) {
-        (true, NO_DRAG) => run_blocks::<L, true, NO_DRAG>(job, part),
-        (false, NO_DRAG) => run_blocks::<L, false, NO_DRAG>(job, part),
-        (true, DRAG_INERTIAL) => run_blocks::<L, true, DRAG_INERTIAL>(job, part),
-        (false, DRAG_INERTIAL) => run_blocks::<L, false, DRAG_INERTIAL>(job, part),
-        (true, _) => run_blocks::<L, true, DRAG_COROTATING>(job, part),
-        (false, _) => run_blocks::<L, false, DRAG_COROTATING>(job, part),
+        (true, NO_DRAG) => run_blocks::<L, true, NO_DRAG>(job, part, table),
+        (false, NO_DRAG) => run_blocks::<L, false, NO_DRAG>(job, part, table),
+        (true, DRAG_INERTIAL) => run_blocks::<L, true, DRAG_INERTIAL>(job, part, table),
+        (false, DRAG_INERTIAL) => run_blocks::<L, false, DRAG_INERTIAL>(job, part, table),
+        (true, _) => run_blocks::<L, true, DRAG_COROTATING>(job, part, table),
+        (false, _) => run_blocks::<L, false, DRAG_COROTATING>(job, part, table),
     }
 }
 
@@ -522,17 +527,23 @@ const DRAG_INERTIAL: u8 = 1;
 const DRAG_COROTATING: u8 = 2;
 
 /// The forces of one segment as the lane arithmetic reads them.
-struct Forces<'c, const L: usize> {
+struct Forces<'c, const L: usize, T> {
     constants: &'c Constants,
     /// The atmosphere (a neutral one without drag: never read then).
     drag: DragConstants,
+    /// How this copy reads the exponential's table.
+    table: T,
     /// `-C_d A / (2 m)` per lane (zero without drag), as `drag_acceleration_m_s2` scales it.
     half_drag_areas: Lanes<L>,
 }
 
 /// Steps every satellite of `part`, `L` at a time, through the whole segment, then its ledger.
 #[inline(always)]
-fn run_blocks<const L: usize, const J2: bool, const DRAG: u8>(job: &Job, part: Part<'_>) {
+fn run_blocks<const L: usize, const J2: bool, const DRAG: u8>(
+    job: &Job,
+    part: Part<'_>,
+    table: impl ExpTable,
+) {
     let Part {
         pv,
         ledger,
@@ -552,6 +563,7 @@ fn run_blocks<const L: usize, const J2: bool, const DRAG: u8>(job: &Job, part: P
         let mut forces = Forces {
             constants: &job.constants,
             drag: job.drag.unwrap_or(DragConstants::UNUSED),
+            table,
             half_drag_areas: [0.0; L],
         };
         // The unused lanes of the last block repeat its last satellite (finite, never stored).
@@ -618,18 +630,31 @@ fn run_blocks<const L: usize, const J2: bool, const DRAG: u8>(job: &Job, part: P
 /// [`DRAG_COROTATING`]), so it vectorises and keeps its intermediates in registers.
 #[inline(always)]
 fn acceleration<const L: usize, const J2: bool, const DRAG: u8>(
-    f: &Forces<'_, L>,
+    f: &Forces<'_, L, impl ExpTable>,
     p: &Vec3<L>,
     v: &Vec3<L>,
     u: &Vec3<L>,
 ) -> Vec3<L> {
     let c = f.constants;
     let d = f.drag;
+    let mut radii_m = [0.0; L];
+    for l in 0..L {
+        let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
+        radii_m[l] = (x * x + y * y + z * z).sqrt();
+    }
+    // With drag, the exponential densities of all lanes at once (the generic path's arithmetic, hence
+    // the same bits), so that this copy reads the exponential's table its own way.
+    let densities = if DRAG == NO_DRAG {
+        [0.0; L]
+    } else {
+        d.atmosphere
+            .densities_kg_per_m3(&radii_m.map(|r| r - d.radius_m), f.table)
+    };
     let mut a = [[0.0; L]; 3];
     for l in 0..L {
         let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
         let r2 = x * x + y * y + z * z;
-        let r = r2.sqrt();
+        let r = radii_m[l];
         let mu_over_r3 = c.mu / (r2 * r);
         let (horizontal, vertical) = if J2 {
             let k = c.j2_r2 / r2;
@@ -646,10 +671,7 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: u8>(
             a[1][l] = horizontal * y + u[1][l];
             a[2][l] = vertical * z + u[2][l];
         } else {
-            // The exponential density through the atmosphere's own vectorisable function (the
-            // generic path's call, hence the same bits), then the drag acceleration as
-            // `drag_acceleration_m_s2` forms it.
-            let density = d.atmosphere.density_at_kg_per_m3(r - d.radius_m);
+            // The drag acceleration as `drag_acceleration_m_s2` forms it.
             let (vx, vy, vz) = if DRAG == DRAG_COROTATING {
                 (
                     v[0][l] + EARTH_ROTATION_RAD_S * y,
@@ -660,7 +682,7 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: u8>(
                 (v[0][l], v[1][l], v[2][l])
             };
             let speed = speed_from_square_m_s(vx * vx + vy * vy + vz * vz);
-            let k = density * f.half_drag_areas[l] * speed;
+            let k = densities[l] * f.half_drag_areas[l] * speed;
             a[0][l] = (horizontal * x + k * vx) + u[0][l];
             a[1][l] = (horizontal * y + k * vy) + u[1][l];
             a[2][l] = (vertical * z + k * vz) + u[2][l];
@@ -696,7 +718,7 @@ fn combine<const L: usize>(y: &mut Vec3<L>, h: f64, k: [&Vec3<L>; 4]) {
 /// One RK4 step of `L` satellites; the position's derivative is the velocity.
 #[inline(always)]
 fn step<const L: usize, const J2: bool, const DRAG: u8>(
-    f: &Forces<'_, L>,
+    f: &Forces<'_, L, impl ExpTable>,
     p: &mut Vec3<L>,
     v: &mut Vec3<L>,
     u: &Vec3<L>,

@@ -1,13 +1,19 @@
-//! The exponential function of the one-layer atmosphere ([`exp`]), written in plain IEEE arithmetic so
-//! that the compiler vectorises it inside the fused kernel's lane loops (`f64::exp` is a library call
-//! per lane there, five times the cost of the whole J2 step), and the generic path calls the same
-//! function: both paths keep the same bits.
+//! The exponential function of the one-layer atmosphere ([`exp_lanes`], over a block of lanes; one
+//! lane in the generic path), written in plain IEEE arithmetic so that the compiler vectorises it inside the fused
+//! kernel's lane loops (`f64::exp` is a library call per lane there, five times the cost of the whole
+//! J2 step), and the generic path calls the same arithmetic: both paths keep the same bits.
 //!
 //! Table-driven (the scheme of Tang, ACM TOMS 15(2), 1989, in the form of ARM's optimized-routines
 //! `exp`): `x = (64 k + j) ln 2 / 64 + r`, `|r| <= ln 2 / 128`, `e^x = 2^k 2^(j/64) e^r`, with
 //! `2^(j/64)` from a table of 64 entries and `e^r` from a polynomial of degree 5. It replaced a
 //! degree-11 polynomial on `|r| <= ln 2 / 2` (issue 24, round 3): 24 operations per call instead of
 //! 35, and within 1 ulp of `f64::exp` instead of 2.
+//!
+//! How the lanes read the table is the one thing that differs between the copies ([`ExpTable`]): by
+//! index ([`IndexedExpTable`]; a gather in the AVX2 and AVX-512 copies of a lane loop), or, in the
+//! fused kernel's AVX-512 copy, by permuting the table's columns held in 512-bit registers
+//! ([`PermutedExpTable`]), because gathers are slow on some CPUs (AMD Zen 4: the two gathers were 30 %
+//! of the drag kernel's time). Both read the same entries, so the results are the same bits.
 
 /// 1.5 · 2^52: adding and subtracting it rounds a double of magnitude below 2^51 to the nearest
 /// integer (ties to even), and leaves that integer in the low bits of the sum.
@@ -104,33 +110,229 @@ const TABLE: [(f64, u64); TABLE_SIZE] = [
 const MIN_ARG: f64 = -708.0;
 const MAX_ARG: f64 = 709.0;
 
-/// e^x for x in \[−708, 709\] (arguments outside are clamped to that range: e^−708 ≈ 3e−308, a
-/// density of zero for every purpose; e^709 ≈ 8e307), NaN for NaN; within 1 ulp of `f64::exp`
-/// (tested). Tang's table-driven reduction `x = (64 k + j) ln 2 / 64 + r` (module documentation),
+/// e^x of each of `L` lanes, the table read by `table` (the same bits whichever reads it): for x in
+/// \[−708, 709\] (arguments outside are clamped to that range: e^−708 ≈ 3e−308, a density of zero for
+/// every purpose; e^709 ≈ 8e307), NaN for NaN; within 1 ulp of `f64::exp` (tested). Tang's
+/// table-driven reduction `x = (64 k + j) ln 2 / 64 + r` (module documentation),
 /// `e^x = 2^k hi_j (1 + q)` with `q = tail_j + r + r^2 p(r)`, formed as `s + s q` with `s = 2^k hi_j`
 /// (so the rounding of `hi_j` is corrected by its tail). No fused multiply-add: the portable copy of
-/// the fused kernel and the generic path would call the library's `fma` per operation; the table
-/// read is a gather in the AVX2 and AVX-512 copies.
+/// the fused kernel and the generic path would call the library's `fma` per operation.
 #[inline(always)]
-pub fn exp(x: f64) -> f64 {
-    let x = x.clamp(MIN_ARG, MAX_ARG);
-    let shifted = x * TABLE_OVER_LN2 + ROUND;
-    let k = shifted - ROUND;
-    let r = (x - k * LN2_HI_OVER) - k * LN2_LO_OVER;
-    // 64 k + j is in the low bits of `shifted` (two's complement): j indexes the table, the rest
-    // shifted into the exponent field gives 2^k.
-    let ki = shifted.to_bits();
-    let (tail, bits) = TABLE[(ki & (TABLE_SIZE as u64 - 1)) as usize];
-    let r2 = r * r;
-    let p = (POLY[0] + POLY[1] * r) + (POLY[2] + POLY[3] * r) * r2;
-    let q = (tail + r) + r2 * p;
-    let scale = f64::from_bits(bits.wrapping_add(ki << (52 - TABLE_BITS)));
-    scale + scale * q
+pub(crate) fn exp_lanes<const L: usize>(x: &[f64; L], table: impl ExpTable) -> [f64; L] {
+    let mut shifted_bits = [0_u64; L];
+    let mut reduced = [0.0; L];
+    for l in 0..L {
+        let x = x[l].clamp(MIN_ARG, MAX_ARG);
+        let shifted = x * TABLE_OVER_LN2 + ROUND;
+        let k = shifted - ROUND;
+        reduced[l] = (x - k * LN2_HI_OVER) - k * LN2_LO_OVER;
+        // 64 k + j is in the low bits of `shifted` (two's complement): j indexes the table, the rest
+        // shifted into the exponent field gives 2^k.
+        shifted_bits[l] = shifted.to_bits();
+    }
+    let (tails, bits) = table.entries(&shifted_bits);
+    let mut out = [0.0; L];
+    for l in 0..L {
+        let (r, ki) = (reduced[l], shifted_bits[l]);
+        let r2 = r * r;
+        let p = (POLY[0] + POLY[1] * r) + (POLY[2] + POLY[3] * r) * r2;
+        let q = (tails[l] + r) + r2 * p;
+        let scale = f64::from_bits(bits[l].wrapping_add(ki << (52 - TABLE_BITS)));
+        out[l] = scale + scale * q;
+    }
+    out
+}
+
+/// How the lanes of [`exp_lanes`] read the table: for each lane, the entry `(tail, bits)` at the low
+/// [`TABLE_BITS`] bits of its index. Every implementation returns the same entries.
+pub(crate) trait ExpTable: Copy {
+    /// The entries at `indices[l] mod 64`, as `(tails, bits)`.
+    fn entries<const L: usize>(self, indices: &[u64; L]) -> ([f64; L], [u64; L]);
+}
+
+/// The table read lane by lane by index (any CPU; a gather in a vectorised lane loop).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct IndexedExpTable;
+
+impl ExpTable for IndexedExpTable {
+    #[inline(always)]
+    fn entries<const L: usize>(self, indices: &[u64; L]) -> ([f64; L], [u64; L]) {
+        let mut tails = [0.0; L];
+        let mut bits = [0; L];
+        for l in 0..L {
+            (tails[l], bits[l]) = entry(indices[l]);
+        }
+        (tails, bits)
+    }
+}
+
+/// The table's entry `(tail, bits)` at `index mod 64`.
+#[inline(always)]
+fn entry(index: u64) -> (f64, u64) {
+    TABLE[(index & (TABLE_SIZE as u64 - 1)) as usize]
+}
+
+/// The table read eight lanes at a time by permuting its columns (AVX-512F): a value exists only on a
+/// CPU with AVX-512F (made by [`PermutedExpTable::new`] after the run-time check), which is what makes
+/// its reads safe to run. Lanes beyond the last multiple of eight are read by index.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PermutedExpTable(());
+
+impl PermutedExpTable {
+    /// The permuted read, if this CPU has AVX-512F.
+    pub(crate) fn new() -> Option<Self> {
+        #[cfg(target_arch = "x86_64")]
+        {
+            std::arch::is_x86_feature_detected!("avx512f").then_some(Self(()))
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            None
+        }
+    }
+}
+
+impl ExpTable for PermutedExpTable {
+    #[inline(always)]
+    #[cfg_attr(not(target_arch = "x86_64"), allow(unused_mut))]
+    fn entries<const L: usize>(self, indices: &[u64; L]) -> ([f64; L], [u64; L]) {
+        let mut tails = [0.0; L];
+        let mut bits = [0; L];
+        let mut start = 0;
+        #[cfg(target_arch = "x86_64")]
+        while start + 8 <= L {
+            let eight = indices[start..start + 8].try_into().expect("eight lanes");
+            #[allow(unsafe_code)]
+            // SAFETY: `self` exists, so the CPU has AVX-512F, the only feature the function enables.
+            let (t, b) = unsafe { permuted_entries(eight) };
+            tails[start..start + 8].copy_from_slice(&t);
+            bits[start..start + 8].copy_from_slice(&b);
+            start += 8;
+        }
+        for l in start..L {
+            (tails[l], bits[l]) = entry(indices[l]);
+        }
+        (tails, bits)
+    }
+}
+
+/// The table's two columns as bits, `[tails, bits]`, each read by the permuted copy as four pairs of
+/// 512-bit registers.
+const COLUMNS: [[u64; TABLE_SIZE]; 2] = {
+    let mut columns = [[0; TABLE_SIZE]; 2];
+    let mut j = 0;
+    while j < TABLE_SIZE {
+        columns[0][j] = TABLE[j].0.to_bits();
+        columns[1][j] = TABLE[j].1;
+        j += 1;
+    }
+    columns
+};
+
+/// The entries at `indices mod 64` of eight lanes, as `(tails, bits)`.
+///
+/// # Safety
+/// The CPU must have AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn permuted_entries(indices: &[u64; 8]) -> ([f64; 8], [u64; 8]) {
+    use std::arch::x86_64::_mm512_loadu_si512;
+    // SAFETY: one whole `[u64; 8]`, unaligned access allowed.
+    let lanes = unsafe { _mm512_loadu_si512(indices.as_ptr().cast()) };
+    // SAFETY: the caller's CPU has AVX-512F.
+    let (tails, bits) = unsafe {
+        (
+            permuted_column(&COLUMNS[0], lanes),
+            permuted_column(&COLUMNS[1], lanes),
+        )
+    };
+    (tails.map(f64::from_bits), bits)
+}
+
+/// Entries `indices mod 64` of one column for eight lanes: the column's 64 entries are four pairs of
+/// 512-bit registers; a two-source permute picks from each pair by an index's low four bits, and bits
+/// 4 and 5 choose among the four pairs.
+///
+/// # Safety
+/// The CPU must have AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn permuted_column(
+    column: &[u64; TABLE_SIZE],
+    indices: std::arch::x86_64::__m512i,
+) -> [u64; 8] {
+    use std::arch::x86_64::*;
+    // SAFETY: the column is 64 u64, so the four pairs of blocks of eight from `column[16 p]` are in
+    // it; unaligned access allowed.
+    let pair = |p: usize| unsafe {
+        let first = column.as_ptr().add(16 * p).cast::<__m512i>();
+        _mm512_permutex2var_epi64(
+            _mm512_loadu_si512(first),
+            indices,
+            _mm512_loadu_si512(first.add(1)),
+        )
+    };
+    let pairs = [pair(0), pair(1), pair(2), pair(3)];
+    let bit4 = _mm512_test_epi64_mask(indices, _mm512_set1_epi64(16));
+    let bit5 = _mm512_test_epi64_mask(indices, _mm512_set1_epi64(32));
+    let low = _mm512_mask_blend_epi64(bit4, pairs[0], pairs[1]);
+    let high = _mm512_mask_blend_epi64(bit4, pairs[2], pairs[3]);
+    let mut out = [0_u64; 8];
+    // SAFETY: one whole `[u64; 8]`, unaligned access allowed.
+    unsafe {
+        _mm512_storeu_si512(
+            out.as_mut_ptr().cast(),
+            _mm512_mask_blend_epi64(bit5, low, high),
+        )
+    };
+    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// e^x of one lane, the table read by index (the generic path's call).
+    fn exp(x: f64) -> f64 {
+        exp_lanes(&[x], IndexedExpTable)[0]
+    }
+
+    /// The permuted read gives every entry the indexed read gives, whatever the bits above the index
+    /// (the reduced argument's integer and sign are there), in whole blocks of eight and in the lanes
+    /// after the last block; and so `exp_lanes` gives the same bits either way. On a CPU without
+    /// AVX-512F there is no permuted read to compare.
+    #[test]
+    fn the_permuted_read_gives_the_indexed_entries() {
+        #[cfg(target_arch = "x86_64")]
+        assert_eq!(
+            PermutedExpTable::new().is_some(),
+            std::arch::is_x86_feature_detected!("avx512f")
+        );
+        let Some(permuted) = PermutedExpTable::new() else {
+            return;
+        };
+        let mut indices = [0_u64; 19];
+        let mut high = 0x9e37_79b9_7f4a_7c15_u64;
+        for start in 0..64 {
+            for (l, index) in indices.iter_mut().enumerate() {
+                high = high.rotate_left(7) ^ 0x2545_f491_4f6c_dd1d;
+                *index = (high << TABLE_BITS) | ((start + 5 * l as u64) % 64);
+            }
+            let (tails, bits) = permuted.entries(&indices);
+            let (want_tails, want_bits) = IndexedExpTable.entries(&indices);
+            assert_eq!(bits, want_bits, "indices {indices:x?}");
+            assert_eq!(tails.map(f64::to_bits), want_tails.map(f64::to_bits));
+        }
+        let xs: [f64; 16] = std::array::from_fn(|l| -40.0 + 5.3 * l as f64 + 0.011 * l as f64);
+        assert_eq!(
+            exp_lanes(&xs, permuted).map(f64::to_bits),
+            exp_lanes(&xs, IndexedExpTable).map(f64::to_bits)
+        );
+    }
 
     /// Within 1 ulp of the library's `exp` (itself within 1 ulp of the true value) over the whole
     /// range, densely where the atmosphere evaluates it (|x| < 40) and at the ends and special values.

@@ -5,6 +5,7 @@
 
 use nalgebra::Vector3;
 
+use super::exp::{exp_lanes, ExpTable, IndexedExpTable};
 use super::{refuse_harris_priester_keys, Atmosphere, FLOOR_ALTITUDE_M};
 use crate::dynamics::config::{check, DragConfig, ForceConfigError};
 
@@ -90,16 +91,26 @@ impl Exponential {
     /// The density \[kg/m^3\] at `altitude_m` \[m\]:
     /// `reference_density * exp((reference_altitude - altitude) * (1 / scale_height))` (a loop
     /// invariant reciprocal instead of a division per lane) with the
-    /// crate's own vectorisable exponential (within 2 ulp of `f64::exp`), the function the fused kernel
-    /// calls per lane: both paths give the same bits. The exponent is clamped to \[−708, 709\]
+    /// crate's own vectorisable exponential (within 1 ulp of `f64::exp`): the arithmetic the fused
+    /// kernel runs per lane ([`Exponential::densities_kg_per_m3`]), so both paths give the same bits. The exponent is clamped to \[−708, 709\]
     /// (a density of 1e−308 of the reference, or e^709 of it for an altitude far below the layer);
     /// NaN for a NaN altitude.
     #[inline(always)]
     pub fn density_at_kg_per_m3(&self, altitude_m: f64) -> f64 {
-        self.reference_density_kg_per_m3
-            * super::exp::exp(
-                (self.reference_altitude_m - altitude_m) * (1.0 / self.scale_height_m),
-            )
+        self.densities_kg_per_m3(&[altitude_m], IndexedExpTable)[0]
+    }
+
+    /// [`Exponential::density_at_kg_per_m3`] of each of `L` lanes, the exponential's table read by
+    /// `table` (the fused kernel's copies read it their own way; the same bits either way).
+    #[inline(always)]
+    pub(crate) fn densities_kg_per_m3<const L: usize>(
+        &self,
+        altitudes_m: &[f64; L],
+        table: impl ExpTable,
+    ) -> [f64; L] {
+        let exponents =
+            altitudes_m.map(|h| (self.reference_altitude_m - h) * (1.0 / self.scale_height_m));
+        exp_lanes(&exponents, table).map(|e| self.reference_density_kg_per_m3 * e)
     }
 }
 

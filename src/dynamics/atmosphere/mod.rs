@@ -16,6 +16,7 @@ use std::fmt;
 
 use nalgebra::Vector3;
 
+pub(crate) use exp::{ExpTable, IndexedExpTable, PermutedExpTable};
 pub use exponential::Exponential;
 pub use harris_priester::HarrisPriester;
 pub use table::ExponentialTable;
