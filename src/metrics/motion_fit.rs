@@ -180,10 +180,11 @@ impl AffineMotion {
         )
     }
 
-    /// The residual |q − (p + r̄ + D (p − p̄))| \[m\] of a satellite anchored at `anchor_m` and at `now_m`.
-    pub(crate) fn residual_m(&self, anchor_m: &Vector3<f64>, now_m: &Vector3<f64>) -> f64 {
+    /// The squared residual |q − (p + r̄ + D (p − p̄))|² \[m²\] of a satellite anchored at `anchor_m`
+    /// and at `now_m` (its square root is the residual's norm to the bit: nalgebra's `norm`).
+    pub(crate) fn residual_squared_m2(&self, anchor_m: &Vector3<f64>, now_m: &Vector3<f64>) -> f64 {
         let predicted = anchor_m + self.shift_m + self.stretch * (anchor_m - self.anchor_mean_m);
-        (now_m - predicted).norm()
+        (now_m - predicted).norm_squared()
     }
 }
 
@@ -213,7 +214,7 @@ mod tests {
         let mut blocks = Vec::new();
         let fit = AffineMotion::fit(10_000, |k| Some(anchors[k]), |k| now[k], &mut blocks).unwrap();
         let worst = (0..anchors.len())
-            .map(|k| fit.residual_m(&anchors[k], &now[k]))
+            .map(|k| fit.residual_squared_m2(&anchors[k], &now[k]).sqrt())
             .fold(0.0, f64::max);
         assert!(worst < 1e-10, "residual {worst} m");
         assert!((fit.contraction - 0.8).abs() < 1e-9, "{}", fit.contraction);
@@ -233,7 +234,7 @@ mod tests {
             .collect();
         let mut blocks = Vec::new();
         let fit = AffineMotion::fit(500, |k| Some(anchors[k]), |k| now[k], &mut blocks).unwrap();
-        assert!((0..500).all(|k| fit.residual_m(&anchors[k], &now[k]) < 1e-10));
+        assert!((0..500).all(|k| fit.residual_squared_m2(&anchors[k], &now[k]).sqrt() < 1e-10));
         assert!(fit.contraction > 0.98, "{}", fit.contraction);
     }
 
@@ -256,7 +257,7 @@ mod tests {
         let predicted = second.extrapolated_from(&first).unwrap();
         let now = at(3.0);
         let worst = (0..anchors.len())
-            .map(|k| predicted.residual_m(&anchors[k], &now[k]))
+            .map(|k| predicted.residual_squared_m2(&anchors[k], &now[k]).sqrt())
             .fold(0.0, f64::max);
         assert!(worst < 1e-9, "residual {worst} m");
         let fitted = fit_at(3.0);
@@ -285,7 +286,7 @@ mod tests {
         let mut blocks = Vec::new();
         let fit = AffineMotion::fit(400, |k| Some(anchors[k]), |k| now[k], &mut blocks).unwrap();
         let e: Vec<f64> = (0..400)
-            .map(|k| fit.residual_m(&anchors[k], &now[k]))
+            .map(|k| fit.residual_squared_m2(&anchors[k], &now[k]).sqrt())
             .collect();
         for i in 0..400 {
             for j in i + 1..400 {

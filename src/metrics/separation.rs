@@ -209,6 +209,14 @@ impl TrackedPositions for Columns<'_> {
 /// Smallest number of satellites per parallel work item of the tracker's per-satellite passes.
 const PARALLEL_MIN_LEN: usize = 4096;
 
+/// Satellites per batch of the residual pass's square roots (a divisor of [`SUM_BLOCK`]).
+const RESIDUAL_BATCH: usize = 64;
+/// Lanes of the residual pass's largest-residual maxima (one 512-bit register).
+const RESIDUAL_LANES: usize = 8;
+const _: () = assert!(
+    SUM_BLOCK.is_multiple_of(RESIDUAL_BATCH) && RESIDUAL_BATCH.is_multiple_of(RESIDUAL_LANES)
+);
+
 /// A narrow search takes at most `1 / NARROW_SHARE` of the swarm as candidates; beyond that a full
 /// search is cheaper.
 const NARROW_SHARE: usize = 4;
@@ -664,29 +672,51 @@ impl SeparationTracker {
             .zip(self.fit_blocks.par_iter_mut())
             .enumerate()
             .map(|(b, (slack, sums))| {
-                let mut worst = (0.0_f64, 0.0_f64);
-                for (offset, slack) in slack.iter_mut().enumerate() {
-                    let k = b * SUM_BLOCK + offset;
-                    let a = anchors.get(positions.id(k)).filter(|a| !a[3].is_nan())?;
-                    let [x, y, z] = positions.position_m(k);
-                    let (anchor, now) = (Vector3::new(a[0], a[1], a[2]), Vector3::new(x, y, z));
-                    let moved_m = motion.residual_m(&anchor, &now);
-                    if !moved_m.is_finite() {
-                        return None;
+                let mut largest_coordinate_m = 0.0_f64;
+                let mut largest_moved_m = [0.0_f64; RESIDUAL_LANES];
+                let mut all_finite = true;
+                let mut held_m = [0.0; RESIDUAL_BATCH];
+                for (c, slack) in slack.chunks_mut(RESIDUAL_BATCH).enumerate() {
+                    // First the squared residuals (in `slack` until their roots replace them), the
+                    // fit's sums and the largest coordinate; then the roots of the batch together
+                    // (a vector square root: one scalar root per satellite held this loop up).
+                    for (offset, (slack, held_m)) in slack.iter_mut().zip(&mut held_m).enumerate() {
+                        let k = b * SUM_BLOCK + c * RESIDUAL_BATCH + offset;
+                        let a = anchors.get(positions.id(k)).filter(|a| !a[3].is_nan())?;
+                        let [x, y, z] = positions.position_m(k);
+                        let (anchor, now) = (Vector3::new(a[0], a[1], a[2]), Vector3::new(x, y, z));
+                        *slack = motion.residual_squared_m2(&anchor, &now);
+                        *held_m = contraction * a[3];
+                        if let Some(origin_m) = fit_origin_m {
+                            sums.add(anchor - origin_m, now - anchor);
+                        }
+                        // The largest magnitude of the six coordinates (as scalars: no vector round
+                        // trip through the stack). A finite residual makes every coordinate finite,
+                        // and a pass with any other gives no bound, so plain comparisons give the
+                        // maxima (no NaN handling).
+                        let largest = [a[1], a[2], x, y, z]
+                            .into_iter()
+                            .fold(a[0].abs(), |m, v| larger(m, v.abs()));
+                        largest_coordinate_m = larger(largest_coordinate_m, largest);
                     }
-                    *slack = contraction * a[3] - moved_m;
-                    if let Some(origin_m) = fit_origin_m {
-                        sums.add(anchor - origin_m, now - anchor);
+                    for (lanes, held_m) in slack
+                        .chunks_mut(RESIDUAL_LANES)
+                        .zip(held_m.chunks(RESIDUAL_LANES))
+                    {
+                        for ((slack, held_m), largest) in
+                            lanes.iter_mut().zip(held_m).zip(&mut largest_moved_m)
+                        {
+                            let moved_m = slack.sqrt();
+                            all_finite &= moved_m.is_finite();
+                            *slack = held_m - moved_m;
+                            *largest = larger(*largest, moved_m);
+                        }
                     }
-                    // The largest magnitude of the six coordinates (as scalars: no vector round trip
-                    // through the stack). A finite residual makes every coordinate finite, so plain
-                    // comparisons give the maxima (no NaN handling).
-                    let largest = [a[1], a[2], x, y, z]
-                        .into_iter()
-                        .fold(a[0].abs(), |m, v| larger(m, v.abs()));
-                    worst = (larger(worst.0, moved_m), larger(worst.1, largest));
                 }
-                Some(worst)
+                all_finite.then(|| {
+                    let moved_m = largest_moved_m.into_iter().fold(0.0, larger);
+                    (moved_m, largest_coordinate_m)
+                })
             })
             .try_reduce(|| (0.0, 0.0), |a, b| Some((a.0.max(b.0), a.1.max(b.1))))?;
         if !(upper_m.is_finite() && scale_m.is_finite()) {
