@@ -360,6 +360,36 @@ fn val_large_build_is_the_same_on_any_thread_count() {
     }
     assert!(found > 50, "too few neighbours to test: {found}");
 
+    // Ranked by a shuffle of the indices: on 1 and 4 threads the storage order is cells ascending in
+    // (z, y, x), within a cell ascending rank, as the cells computed here from the positions say.
+    let rank: Vec<u32> = (0..n as u32).map(|i| (i * 7_919) % n as u32).collect();
+    let ranked = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut g = NeighbourGrid::new();
+            g.build_ranked(&x, &y, &z, r, Some(&rank)).unwrap();
+            g.cell_order().to_vec()
+        })
+    };
+    let inv_cell = 1.0 / one.cell_size_m();
+    let axes = [&x, &y, &z];
+    let lo = axes.map(|v| v.iter().copied().fold(f64::INFINITY, f64::min));
+    let hi = axes.map(|v| v.iter().copied().fold(f64::NEG_INFINITY, f64::max));
+    let dims: [u64; 3] = std::array::from_fn(|a| ((hi[a] - lo[a]) * inv_cell).floor() as u64 + 1);
+    let cell = |i: usize| -> [u64; 3] {
+        std::array::from_fn(|a| (((axes[a][i] - lo[a]) * inv_cell) as u64).min(dims[a] - 1))
+    };
+    let mut expected: Vec<u32> = (0..n as u32).collect();
+    expected.sort_by_key(|&i| {
+        let c = cell(i as usize);
+        (c[2], c[1], c[0], rank[i as usize])
+    });
+    assert_eq!(ranked(1), expected);
+    assert_eq!(ranked(4), expected);
+
     let mut bad_x = x.clone();
     bad_x[30_000] = f64::NAN;
     bad_x[35_000] = f64::INFINITY;

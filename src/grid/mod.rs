@@ -377,15 +377,7 @@ impl NeighbourGrid {
             GridLayout::Sparse => self.sort_sparse(n, &position_m),
         }
         if let Some(rank) = rank {
-            // Within each cell (already in ascending index), by rank: nearly sorted when the storage
-            // order follows the ranks, which the sort exploits.
-            let items = &mut self.items;
-            for window in self.cell_start.windows(2) {
-                let (start, end) = (window[0] as usize, window[1] as usize);
-                if end - start > 1 {
-                    items[start..end].sort_unstable_by_key(|&i| rank[i as usize]);
-                }
-            }
+            sort_cells_by_rank(&mut self.items, &self.cell_start, rank);
         }
         self.xs.resize(n, 0.0);
         self.ys.resize(n, 0.0);
@@ -845,6 +837,30 @@ impl NeighbourGrid {
             }
         }
     }
+}
+
+/// Sorts the satellites of each cell (`items[cell_start[c] .. cell_start[c + 1]]`, slots counted from
+/// `cell_start[0]`; already in ascending index) by rank: nearly sorted when the storage order follows the
+/// ranks, which the sort exploits. Cells are independent, so halves of the cells go to the rayon pool
+/// (each cell sorted whole by one thread: the same order on any thread count).
+fn sort_cells_by_rank(items: &mut [u32], cell_start: &[u32], rank: &[u32]) {
+    let cells = cell_start.len() - 1;
+    if items.len() <= PARALLEL_MIN_LEN || cells < 2 {
+        let first = cell_start[0] as usize;
+        for window in cell_start.windows(2) {
+            let (start, end) = (window[0] as usize - first, window[1] as usize - first);
+            if end - start > 1 {
+                items[start..end].sort_unstable_by_key(|&i| rank[i as usize]);
+            }
+        }
+        return;
+    }
+    let half = cells / 2;
+    let (low, high) = items.split_at_mut((cell_start[half] - cell_start[0]) as usize);
+    rayon::join(
+        || sort_cells_by_rank(low, &cell_start[..=half], rank),
+        || sort_cells_by_rank(high, &cell_start[half..], rank),
+    );
 }
 
 /// One fixed-radius query under way: each row of cells is scanned in batches (the squared distances
