@@ -59,7 +59,8 @@ pub enum Simd {
     Portable,
     /// AVX2 (four `f64` per instruction), 8 lanes; x86-64 only, when the CPU has it.
     Avx2,
-    /// AVX-512F (eight `f64` per instruction), 8 lanes; x86-64 only, when the CPU has it.
+    /// AVX-512F (eight `f64` per instruction), 16 lanes; x86-64 only, when the CPU has it. With drag
+    /// it reads the exponential's table by register permutes instead of gathers.
     Avx512,
 }
 
