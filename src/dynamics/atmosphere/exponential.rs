@@ -90,10 +90,11 @@ impl Exponential {
 
     /// The density \[kg/m^3\] at `altitude_m` \[m\]:
     /// `reference_density * exp((reference_altitude - altitude) * (1 / scale_height))` (a loop
-    /// invariant reciprocal instead of a division per lane) with the
-    /// crate's own vectorisable exponential (within 1 ulp of `f64::exp`): the arithmetic the fused
-    /// kernel runs per lane ([`Exponential::densities_kg_per_m3`]), so both paths give the same bits. The exponent is clamped to \[−708, 709\]
-    /// (a density of 1e−308 of the reference, or e^709 of it for an altitude far below the layer);
+    /// invariant reciprocal instead of a division per lane) with the crate's own vectorisable
+    /// exponential (within 1 ulp of `f64::exp`): the arithmetic the fused kernel runs per lane
+    /// (`densities_kg_per_m3`), so both paths give the same bits. The exponent is clamped to
+    /// \[−708, 709\] (a density of 1e−308 of the reference, or e^709 of it for an altitude far below
+    /// the layer);
     /// NaN for a NaN altitude.
     #[inline(always)]
     pub fn density_at_kg_per_m3(&self, altitude_m: f64) -> f64 {
