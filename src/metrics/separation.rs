@@ -725,13 +725,22 @@ impl SeparationTracker {
         let margin_m = 1e-9 * scale_m * (1.0 + motion.norm);
         let slack_m = &self.slack_m;
         self.candidates.clear();
+        // Fixed chunks, each filtered by a plain loop that extends the output (rayon's per-item
+        // filter folder was compiled to a call per satellite in some builds: a quarter of this
+        // stage's time).
         self.candidates.par_extend(
-            (0..n)
-                .into_par_iter()
-                .with_min_len(PARALLEL_MIN_LEN)
-                .filter(|&k| {
-                    let lower_m = slack_m[k] - largest_m - margin_m;
-                    lower_m <= upper_m || lower_m < radii_m[k] + a_max
+            slack_m[..n]
+                .par_chunks(PARALLEL_MIN_LEN)
+                .zip(radii_m[..n].par_chunks(PARALLEL_MIN_LEN))
+                .enumerate()
+                .flat_map_iter(|(chunk, (slack_m, radii_m))| {
+                    let first = chunk * PARALLEL_MIN_LEN;
+                    (0..slack_m.len())
+                        .filter(move |&o| {
+                            let lower_m = slack_m[o] - largest_m - margin_m;
+                            lower_m <= upper_m || lower_m < radii_m[o] + a_max
+                        })
+                        .map(move |o| first + o)
                 }),
         );
         Some(self.candidates.len())
