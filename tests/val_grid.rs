@@ -53,6 +53,15 @@ fn swarm(seed: u64, n: usize, mode: u8) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
     (x, y, z)
 }
 
+/// `f` run on a rayon pool of `threads` threads.
+fn on_threads<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 /// All j != i within `reach` of i, ascending j, by the documented inclusion rule.
 fn brute_within(x: &[f64], y: &[f64], z: &[f64], i: usize, reach: f64) -> Vec<Neighbour> {
     (0..x.len())
@@ -204,11 +213,11 @@ fn val_visit_order_is_deterministic() {
     g.build(&x2, &y2, &z2, 10.0).unwrap();
     g.build(&x, &y, &z, r).unwrap();
     for threads in [1, 4] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        assert_eq!(pool.install(|| orders(&g)), first, "{threads} threads");
+        assert_eq!(
+            on_threads(threads, || orders(&g)),
+            first,
+            "{threads} threads"
+        );
     }
 }
 
@@ -338,11 +347,7 @@ fn val_large_build_is_the_same_on_any_thread_count() {
     let (x, y, z) = swarm(11, n, 1);
     let r = radius_for(1, 0.4);
     let build = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut g = NeighbourGrid::new();
             g.build(&x, &y, &z, r).unwrap();
             g
@@ -364,11 +369,7 @@ fn val_large_build_is_the_same_on_any_thread_count() {
     // (z, y, x), within a cell ascending rank, as the cells computed here from the positions say.
     let rank: Vec<u32> = (0..n as u32).map(|i| (i * 7_919) % n as u32).collect();
     let ranked = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let mut g = NeighbourGrid::new();
             g.build_ranked(&x, &y, &z, r, Some(&rank)).unwrap();
             g.cell_order().to_vec()
@@ -394,11 +395,9 @@ fn val_large_build_is_the_same_on_any_thread_count() {
     bad_x[30_000] = f64::NAN;
     bad_x[35_000] = f64::INFINITY;
     for threads in [1, 4] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        let error = pool.install(|| NeighbourGrid::new().build(&bad_x, &y, &z, r).unwrap_err());
+        let error = on_threads(threads, || {
+            NeighbourGrid::new().build(&bad_x, &y, &z, r).unwrap_err()
+        });
         assert!(
             matches!(
                 error,

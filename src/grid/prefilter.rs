@@ -2,8 +2,8 @@
 //! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Two copies that give the same
 //! answers: a portable branch-free loop (one candidate per iteration) and, on x86-64 CPUs with
 //! AVX-512F, AVX-512VL and POPCNT (detected at run time), eight candidates per instruction with
-//! their passing slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE operations in the
-//! same order (no fused multiply-add), so they pass exactly the same candidates.
+//! their passing slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE
+//! operations in the same order (no fused multiply-add), so they pass exactly the same candidates.
 
 use std::mem::MaybeUninit;
 

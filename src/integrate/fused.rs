@@ -638,10 +638,12 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: u8>(
 ) -> Vec3<L> {
     let c = f.constants;
     let d = f.drag;
+    let mut squared_radii_m2 = [0.0; L];
     let mut radii_m = [0.0; L];
     for l in 0..L {
         let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
-        radii_m[l] = (x * x + y * y + z * z).sqrt();
+        squared_radii_m2[l] = x * x + y * y + z * z;
+        radii_m[l] = squared_radii_m2[l].sqrt();
     }
     // With drag, the exponential densities of all lanes at once (the generic path's arithmetic, hence
     // the same bits), so that this copy reads the exponential's table its own way.
@@ -654,8 +656,7 @@ fn acceleration<const L: usize, const J2: bool, const DRAG: u8>(
     let mut a = [[0.0; L]; 3];
     for l in 0..L {
         let (x, y, z) = (p[0][l], p[1][l], p[2][l]);
-        let r2 = x * x + y * y + z * z;
-        let r = radii_m[l];
+        let (r2, r) = (squared_radii_m2[l], radii_m[l]);
         let mu_over_r3 = c.mu / (r2 * r);
         let (horizontal, vertical) = if J2 {
             let k = c.j2_r2 / r2;

@@ -1,7 +1,8 @@
 //! The exponential function of the one-layer atmosphere ([`exp_lanes`], over a block of lanes; one
-//! lane in the generic path), written in plain IEEE arithmetic so that the compiler vectorises it inside the fused
-//! kernel's lane loops (`f64::exp` is a library call per lane there, five times the cost of the whole
-//! J2 step), and the generic path calls the same arithmetic: both paths keep the same bits.
+//! lane in the generic path), written in plain IEEE arithmetic so that the compiler vectorises it
+//! inside the fused kernel's lane loops (`f64::exp` is a library call per lane there, five times the
+//! cost of the whole J2 step), and the generic path calls the same arithmetic: both paths keep the
+//! same bits.
 //!
 //! Table-driven (the scheme of Tang, ACM TOMS 15(2), 1989, in the form of ARM's optimized-routines
 //! `exp`): `x = (64 k + j) ln 2 / 64 + r`, `|r| <= ln 2 / 128`, `e^x = 2^k 2^(j/64) e^r`, with
