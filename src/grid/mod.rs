@@ -307,21 +307,22 @@ impl NeighbourGrid {
             return Err(NeighbourError::TooManyPoints { n, max: MAX_POINTS });
         }
         // The bounding box (minima and maxima: the same values whatever the split), and whether every
-        // coordinate is finite, in one pass.
-        let (mut lo, mut hi, finite) = (0..n)
+        // coordinate is finite, in one pass over fixed chunks, each a plain loop. Plain comparisons
+        // skip a NaN, which the finiteness flag reports (the box is then not used).
+        let (mut lo, mut hi, finite) = (0..n.div_ceil(PARALLEL_MIN_LEN))
             .into_par_iter()
-            .with_min_len(PARALLEL_MIN_LEN)
-            .fold(
-                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true),
-                |(mut lo, mut hi, mut finite), i| {
+            .map(|chunk| {
+                let (mut lo, mut hi, mut finite) =
+                    ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true);
+                for i in chunk * PARALLEL_MIN_LEN..((chunk + 1) * PARALLEL_MIN_LEN).min(n) {
                     for (a, v) in position_m(i).into_iter().enumerate() {
-                        lo[a] = lo[a].min(v);
-                        hi[a] = hi[a].max(v);
+                        lo[a] = if v < lo[a] { v } else { lo[a] };
+                        hi[a] = if v > hi[a] { v } else { hi[a] };
                         finite &= v.is_finite();
                     }
-                    (lo, hi, finite)
-                },
-            )
+                }
+                (lo, hi, finite)
+            })
             .reduce(
                 || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true),
                 |(lo_a, hi_a, finite_a), (lo_b, hi_b, finite_b)| {
@@ -411,11 +412,16 @@ impl NeighbourGrid {
         let mut cell_of_point = std::mem::take(&mut self.scratch_cell);
         cell_of_point.resize(n, 0);
         let grid = &*self;
+        // Fixed chunks, each a plain loop (a per-item closure call does not vectorise).
         cell_of_point
-            .par_iter_mut()
+            .par_chunks_mut(PARALLEL_MIN_LEN)
             .enumerate()
-            .with_min_len(PARALLEL_MIN_LEN)
-            .for_each(|(i, cell)| *cell = grid.key(grid.cell_of(position_m(i))) as u32);
+            .for_each(|(chunk, cells)| {
+                let first = chunk * PARALLEL_MIN_LEN;
+                for (k, cell) in cells.iter_mut().enumerate() {
+                    *cell = grid.key(grid.cell_of(position_m(first + k))) as u32;
+                }
+            });
         for &c in &cell_of_point {
             self.cell_start[c as usize + 1] += 1;
         }
@@ -730,8 +736,10 @@ impl NeighbourGrid {
         for a in 0..3 {
             let u = (p[a] - self.origin_m[a]) * self.inv_cell;
             // Float-to-int casts truncate (floor, as u >= 0: p is never below the origin, the lowest
-            // coordinate) and saturate (NaN and negative -> 0); the clamp guards the top edge.
-            c[a] = (u as u64).min(self.dims[a] - 1);
+            // coordinate) and saturate (NaN -> 0, beyond i32's range -> its bound); the clamp keeps
+            // negatives at 0 and guards the top edge (dims <= 2^20 + 1, far inside i32). The cast to
+            // i32 gives the cast to u64's cells for every input, and vectorises (to u64 does not).
+            c[a] = (u as i32).clamp(0, (self.dims[a] - 1) as i32) as u64;
         }
         c
     }
@@ -1117,6 +1125,47 @@ mod tests {
                 ranks: 2
             })
         );
+    }
+
+    /// `cell_of` is floor((p − origin) / cell) clamped into [0, dims − 1] on every axis, with NaN in
+    /// cell 0: checked on coordinates inside, on the edges of, below and far beyond a grid of the
+    /// largest cell count per axis.
+    #[test]
+    fn cell_coordinates_are_the_clamped_floor() {
+        let mut g = NeighbourGrid::new();
+        // 1 m radius over 3e6 m on x: capped at 2^20 cells per axis there; one cell on y and z.
+        g.build(&[0.0, 3e6], &[0.0; 2], &[0.0; 2], 1.0).unwrap();
+        let dims = g.dims;
+        assert_eq!(dims[0], MAX_CELLS_PER_AXIS as u64 + 1);
+        let expected = |u: f64, dim: u64| -> u64 {
+            if u.is_nan() || u < 0.0 {
+                0
+            } else {
+                (u.floor().min((dim - 1) as f64)) as u64
+            }
+        };
+        let cell = g.cell_size_m();
+        for x in [
+            0.0,
+            0.5 * cell,
+            cell,
+            12_345.678,
+            3e6,
+            3e6 + 10.0 * cell,
+            -1e-9,
+            -5.0 * cell,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ] {
+            let c = g.cell_of([x, x, x]);
+            for a in 0..3 {
+                let u = (x - g.origin_m[a]) * g.inv_cell;
+                assert_eq!(c[a], expected(u, dims[a]), "x = {x}, axis {a}");
+            }
+        }
     }
 
     #[test]
