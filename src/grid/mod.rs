@@ -406,8 +406,9 @@ impl NeighbourGrid {
         position_m: &(impl Fn(usize) -> [f64; 3] + Sync),
         cells: usize,
     ) {
+        // One entry beyond the `cells + 1` kept, for the counts' offset below.
         self.cell_start.clear();
-        self.cell_start.resize(cells + 1, 0);
+        self.cell_start.resize(cells + 2, 0);
         // Every satellite's cell in parallel (each on its own), then the serial counting sort.
         let mut cell_of_point = std::mem::take(&mut self.scratch_cell);
         cell_of_point.resize(n, 0);
@@ -422,24 +423,29 @@ impl NeighbourGrid {
                     *cell = grid.key(grid.cell_of(position_m(first + k))) as u32;
                 }
             });
+        // Cell c's count at entry c + 2: after the running sum, entry c + 1 is the start of cell c,
+        // the write cursor of the stable scatter, which leaves it at the cell's end, the start of
+        // cell c + 1; entry 0 stays 0. (No pass to shift the cursors back; local slices, so the
+        // loops keep their bounds in registers.)
+        let (cell_start, items) = (&mut self.cell_start[..], &mut self.items[..]);
         for &c in &cell_of_point {
-            self.cell_start[c as usize + 1] += 1;
+            cell_start[c as usize + 2] += 1;
         }
+        let mut occupied = 0;
+        let mut running = 0;
+        for start in &mut cell_start[2..] {
+            occupied += usize::from(*start > 0);
+            running += *start;
+            *start = running;
+        }
+        for (i, &c) in cell_of_point.iter().enumerate() {
+            let cursor = &mut cell_start[c as usize + 1];
+            items[*cursor as usize] = i as u32;
+            *cursor += 1;
+        }
+        self.cell_start.truncate(cells + 1);
+        self.occupied = occupied;
         self.scratch_cell = cell_of_point;
-        self.occupied = self.cell_start[1..].iter().filter(|&&k| k > 0).count();
-        for k in 1..=cells {
-            self.cell_start[k] += self.cell_start[k - 1];
-        }
-        // `cell_start[c]` is now the start of cell c; use it as the write cursor, then shift back.
-        for (i, &c) in self.scratch_cell.iter().enumerate() {
-            let c = c as usize;
-            self.items[self.cell_start[c] as usize] = i as u32;
-            self.cell_start[c] += 1;
-        }
-        for k in (1..=cells).rev() {
-            self.cell_start[k] = self.cell_start[k - 1];
-        }
-        self.cell_start[0] = 0;
     }
 
     /// Sort of (cell key, index) pairs; keys are unique per (cell, satellite), so the order is fixed.
