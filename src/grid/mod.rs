@@ -25,6 +25,10 @@
 //!   `[p − reach, p + reach]` meets (often the satellite's own cell alone for a reach well below the
 //!   cell edge). The answers and their order are those of a plain slot-by-slot
 //!   walk of the whole block (tested).
+//! * A grid may keep a **neighbour list** across its builds (module `neighbour_list`, a Verlet list:
+//!   each satellite's candidates within a reach plus a skin, made again once a satellite has moved half
+//!   the skin). Queries within the list's reach test only those candidates and give the walk's answers
+//!   in the walk's order; the engine's sensing grid keeps one for its law's queries.
 //! * [`NeighbourGrid::mask`] hides satellites from every query until the next build (the engine hides
 //!   removed and unlinked ones), so a caller need not look up per-neighbour flags by index.
 //!
@@ -43,6 +47,7 @@
 //! would be larger than the swarm (a reach far beyond the cell size), the query scans all satellites in
 //! storage order instead (storage order is the cell order above).
 
+mod neighbour_list;
 mod prefilter;
 mod ring;
 
@@ -51,6 +56,7 @@ pub use ring::RingOrder;
 use std::mem::MaybeUninit;
 use std::ops::Range;
 
+use neighbour_list::{NeighbourList, ReachSeen};
 #[cfg(target_arch = "x86_64")]
 use prefilter::Avx512Batches;
 use prefilter::{Batches, Candidates, PortableBatches, Prefilter};
@@ -221,6 +227,12 @@ pub struct NeighbourGrid {
     hidden: Vec<bool>,
     /// The copy of the squared-distance prefilter queries run (the fastest this CPU has).
     prefilter: Prefilter,
+    /// Whether the grid keeps a neighbour list ([`Self::keep_neighbour_list`]).
+    keeps_list: bool,
+    /// The neighbour list, kept across builds (module `neighbour_list`).
+    list: NeighbourList,
+    /// The largest reach queried since the last build (noted only when a list is kept).
+    reach_seen: ReachSeen,
 }
 
 impl NeighbourGrid {
@@ -396,7 +408,37 @@ impl NeighbourGrid {
         for (slot, &i) in self.items.iter().enumerate() {
             self.slot_of[i as usize] = slot as u32;
         }
+        if self.keeps_list {
+            let mut list = std::mem::take(&mut self.list);
+            list.refresh(self, &position_m, &self.reach_seen);
+            self.list = list;
+        }
         Ok(())
+    }
+
+    /// Makes the grid keep a neighbour list across its builds (`keep`; `false` drops it): each build
+    /// then checks how far the satellites have moved since the list was made, and queries within the
+    /// list's reach (learned: the largest reach queried between two builds) test only each satellite's
+    /// candidates. The answers and their order stay exactly those of the walk (module
+    /// `neighbour_list`); it pays when the same satellites are queried build after build at a reach
+    /// small against the cells, as the engine's law queries are.
+    pub(crate) fn keep_neighbour_list(&mut self, keep: bool) {
+        self.keeps_list = keep;
+        if !keep {
+            self.list = NeighbourList::default();
+        }
+    }
+
+    /// Renumbers the neighbour list after the caller moved its satellites: satellite index `k` now is
+    /// the one that was `moves[k]` (a permutation of `0..len`), so the list lasts across the move.
+    /// The grid itself holds the old indices until its next build.
+    pub(crate) fn renumber_neighbour_list(&mut self, moves: &[u32]) {
+        self.list.renumber(moves);
+    }
+
+    /// How many times the grid's neighbour list was made (0 without one).
+    pub(crate) fn neighbour_lists_made(&self) -> u64 {
+        self.list.made()
     }
 
     /// Counting sort by dense cell index; stable, so each cell lists its satellites in ascending index.
@@ -601,11 +643,23 @@ impl NeighbourGrid {
         &self,
         si: usize,
         reach_m: f64,
-        visit: impl FnMut(Neighbour),
+        mut visit: impl FnMut(Neighbour),
     ) {
         if reach_m.is_nan() || reach_m < 0.0 {
             return;
         }
+        if self.keeps_list {
+            self.reach_seen.note(reach_m);
+            if self.list.serves(reach_m) && self.list.visit(self, si, reach_m, &mut visit) {
+                return;
+            }
+        }
+        self.walk(si, reach_m, visit);
+    }
+
+    /// The walk of the cells around the satellite in slot `si` for [`Self::for_each_within_slot`] (a
+    /// reach neither negative nor NaN).
+    fn walk(&self, si: usize, reach_m: f64, visit: impl FnMut(Neighbour)) {
         // The copy of the prefilter is chosen once per query, and the whole query is compiled once
         // per copy, with its batches inlined into the row loop.
         match self.prefilter.avx512() {

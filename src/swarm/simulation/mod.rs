@@ -116,6 +116,10 @@ pub struct StageTimings {
     /// How the satellites were propagated: the fused kernel and the force set it covers, the generic
     /// per-satellite stepper, or the coupled swarm ODE (continuous control).
     pub propagation_path: &'static str,
+    /// How many times the sensing grid made its neighbour list (the law's queries at a reach well
+    /// below the sensing range answered from a list kept across ticks, made again once a satellite
+    /// has moved an eighth of that reach; 0: every query walked the grid's cells).
+    pub neighbour_lists_made: u64,
 }
 
 impl StageTimings {
@@ -574,6 +578,7 @@ impl Simulation {
                 Integration::Coupled { .. } => "coupled swarm ODE (continuous control)",
                 Integration::Sampled(buffers) => buffers.path_name(),
             },
+            neighbour_lists_made: self.sensed.grids.grid.neighbour_lists_made(),
             ..self.timings
         }
     }

@@ -63,10 +63,14 @@ pub(super) struct SensingGrid {
 impl Sensed {
     /// Empty buffers; `neighbours`: whether the law reads neighbours.
     pub fn new(neighbours: bool) -> Self {
+        let mut grid = NeighbourGrid::new();
+        // The law's queries repeat for the same satellites tick after tick, at a reach often well
+        // below the sensing range: a neighbour list kept across the ticks answers them.
+        grid.keep_neighbour_list(true);
         Self {
             navigation: Vec::new(),
             grids: SensingGrid {
-                grid: NeighbourGrid::new(),
+                grid,
                 phases_rad: Vec::new(),
                 ring: RingOrder::new(),
                 neighbours,
