@@ -413,9 +413,12 @@ pub(super) fn check_commands(
     tick: u64,
     time_s: f64,
 ) -> Result<(), SimError> {
+    // In parallel: a root per satellite is a serial millisecond or more on a large swarm. (The
+    // smallest id is unique, so the answer does not depend on the split.)
     let bad = applied_hill
-        .iter()
+        .par_iter()
         .enumerate()
+        .with_min_len(CHUNK)
         .filter(|&(i, u)| fleet.active[i] && !u.norm().is_finite())
         .map(|(i, u)| (fleet.order.id_at(i), u))
         .min_by_key(|(id, _)| *id);
