@@ -470,23 +470,26 @@ impl Simulation {
     /// Holds the tick's applied commands (plus process noise) in the dynamics frame until the next tick.
     fn hold_commands(&mut self, frame: Option<LvlhFrame>) {
         let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
-        for (i, (held, u)) in self
-            .satellites
+        let process_hill = &self.noise.process_hill;
+        // In parallel: each satellite on its own (a rotation each, a serial millisecond or more on a
+        // large swarm).
+        self.satellites
             .held_control
-            .iter_mut()
+            .par_iter_mut()
             .zip(&self.satellites.applied_hill)
             .enumerate()
-        {
-            let total = if kinematic {
-                *u
-            } else {
-                u + process_noise_of(&self.noise.process_hill, i)
-            };
-            *held = match &frame {
-                Some(f) => f.vector_hill_to_eci(&total),
-                None => total,
-            };
-        }
+            .with_min_len(CHUNK)
+            .for_each(|(i, (held, u))| {
+                let total = if kinematic {
+                    *u
+                } else {
+                    u + process_noise_of(process_hill, i)
+                };
+                *held = match &frame {
+                    Some(f) => f.vector_hill_to_eci(&total),
+                    None => total,
+                };
+            });
     }
 
     /// Kinematic model, continuous mode: after a segment each satellite's velocity state is the command
