@@ -438,6 +438,49 @@ pub(super) fn check_commands(
 mod tests {
     use super::*;
 
+    /// A non-finite applied command is reported for the smallest live id, whatever the chunks the
+    /// parallel check splits the swarm into: bad commands in several chunks (one of them a removed
+    /// satellite's, with a smaller id, which is skipped), on 1 and 4 threads.
+    #[test]
+    fn check_commands_names_the_smallest_live_bad_id() {
+        let n = 5 * CHUNK + 7;
+        let text = format!(
+            "name = \"t\"\nseed = 1\nduration_s = 10.0\nrecord_interval_s = 10.0\n\
+             [reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n\
+             [satellites]\ncount = {n}\nmass_kg = 5.0\nradius_m = 0.1\n\
+             initial = {{ distribution = \"sphere\", radius_m = 5000.0 }}\n\
+             [law]\nname = \"none\"\n"
+        );
+        let scenario =
+            crate::scenario::Scenario::from_toml(&text, "t", std::path::Path::new(".")).unwrap();
+        let mut sim = crate::run::build_simulation(&scenario).unwrap();
+        let mut applied = vec![Vector3::zeros(); n];
+        for (i, bad) in [
+            (4 * CHUNK + 3, f64::NAN),
+            (2 * CHUNK + 1, f64::INFINITY),
+            (CHUNK - 2, f64::NAN),
+        ] {
+            applied[i] = Vector3::new(0.0, bad, 0.0);
+        }
+        sim.satellites.fleet.active[CHUNK - 2] = false;
+        for threads in [1, 4] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let e =
+                pool.install(|| check_commands(&applied, &sim.satellites.fleet, &sim.law, 3, 1.5));
+            match e {
+                Err(SimError::BadCommand {
+                    satellite, tick: 3, ..
+                }) => {
+                    assert_eq!(satellite, 2 * CHUNK + 1, "{threads} threads")
+                }
+                other => panic!("{threads} threads: {other:?}"),
+            }
+        }
+    }
+
     fn at_x(x: f64) -> RelativeStateHill {
         RelativeStateHill {
             position_m: Vector3::new(x, 0.0, 0.0),
