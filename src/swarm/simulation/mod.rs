@@ -120,6 +120,11 @@ pub struct StageTimings {
     /// below the sensing range answered from a list kept across ticks, made again once a satellite
     /// has moved an eighth of that reach; 0: every query walked the grid's cells).
     pub neighbour_lists_made: u64,
+    /// How many of the separation monitor's updates searched the whole live swarm (the others
+    /// searched only the satellites its motion bound could not rule out).
+    pub separation_full_searches: u64,
+    /// How many of the separation monitor's updates searched only those candidates.
+    pub separation_narrow_searches: u64,
 }
 
 impl StageTimings {
@@ -579,6 +584,8 @@ impl Simulation {
                 Integration::Sampled(buffers) => buffers.path_name(),
             },
             neighbour_lists_made: self.sensed.grids.grid.neighbour_lists_made(),
+            separation_full_searches: self.monitors.live.full_searches(),
+            separation_narrow_searches: self.monitors.live.narrow_searches(),
             ..self.timings
         }
     }

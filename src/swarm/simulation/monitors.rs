@@ -117,6 +117,16 @@ impl LiveMetrics {
             .renumber(moves, |anchors| permute(anchors, moves, visited));
     }
 
+    /// The separation tracker's full searches so far.
+    pub fn full_searches(&self) -> u64 {
+        self.tracker.full_searches()
+    }
+
+    /// The separation tracker's narrow searches so far.
+    pub fn narrow_searches(&self) -> u64 {
+        self.tracker.narrow_searches()
+    }
+
     pub fn new() -> Self {
         Self {
             indices: Vec::new(),
