@@ -27,6 +27,9 @@ const MAX_LISTED: usize = 12;
 /// The reach of the search for the distance beyond a satellite's list, in nearest-neighbour distances.
 const BEYOND_REACH: f64 = 1.0 + 2.0 * LIST_BAND;
 
+/// How many pairs ahead [`ClosePairs::measure`] hints the cache at a pair's second satellite.
+const PREFETCH_AHEAD: usize = 16;
+
 /// Smallest number of satellites or pairs per parallel work item.
 const PARALLEL_MIN_LEN: usize = 4096;
 
@@ -128,17 +131,29 @@ impl ClosePairs {
             let d = (dx * dx + dy * dy + dz * dz).sqrt();
             Some((d, (ka, kb), d < radii_m[ka] + radii_m[kb]))
         };
+        // Fixed chunks, each scanned by a plain loop in ascending pair order (the first pair at a
+        // chunk's minimum is its smallest), then the chunks' answers merged: the same closest pair and
+        // count as any order of the pairs (a per-pair parallel reduction cost several times the
+        // distances themselves).
         let (closest, collisions) = self
             .pairs
-            .par_iter()
-            .with_min_len(PARALLEL_MIN_LEN)
-            .filter_map(|pair| {
-                measured(pair).map(|(d, _, collides)| {
-                    (
-                        Some((d, (pair.0 as usize, pair.1 as usize))),
-                        usize::from(collides),
-                    )
-                })
+            .par_chunks(PARALLEL_MIN_LEN)
+            .map(|pairs| {
+                let mut closest: Closest = None;
+                let mut collisions = 0;
+                for (p, pair) in pairs.iter().enumerate() {
+                    // The second satellites lie anywhere in memory: start their loads ahead.
+                    if let Some(ahead) = pairs.get(p + PREFETCH_AHEAD) {
+                        positions.prefetch_id(ahead.1 as usize);
+                    }
+                    if let Some((d, _, collides)) = measured(pair) {
+                        if closest.is_none_or(|(best, _)| d < best) {
+                            closest = Some((d, (pair.0 as usize, pair.1 as usize)));
+                        }
+                        collisions += usize::from(collides);
+                    }
+                }
+                (closest, collisions)
             })
             .reduce(
                 || (None, 0),

@@ -182,6 +182,9 @@ pub(crate) trait TrackedPositions: Sync {
         }
         (low < n && self.id(low) == id).then_some(low)
     }
+    /// Hints the cache at the position of the satellite with id `id`, to be read soon through
+    /// [`Self::index_of_id`] (nothing unless the implementation can find it cheaply).
+    fn prefetch_id(&self, _id: usize) {}
 }
 
 /// Positions given as three columns with their ids ([`SeparationTracker::update`]); equal lengths.
@@ -230,6 +233,10 @@ const PLAIN_SHARE: usize = 32;
 /// A full search forced by too many candidates within this many narrow searches of the previous one
 /// turns the close-pair lists on: the satellites tie at their nearest distances.
 const TIED_WITHIN: u64 = 2;
+
+/// A full search forced by stale anchors within this many narrow searches of the previous one (the
+/// narrow searches took more than a 32nd of the swarm each, on average) turns the close-pair lists on.
+const STALE_WITHIN: u64 = PLAIN_SHARE as u64;
 
 /// Up to this many candidates a narrow search compares all pairs directly; above it, it builds a grid of
 /// the candidates.
@@ -523,6 +530,11 @@ impl SeparationTracker {
         // anchors instead: at most twice the work of the better choice in hindsight.
         self.searched_since_full += self.candidates.len();
         if self.searched_since_full > n {
+            // That soon, the satellites crowd at their nearest distances (a guided swarm held at its
+            // avoidance radius): list the close pairs, as for a tie.
+            if self.narrow_since_full < STALE_WITHIN {
+                self.lists_pairs = true;
+            }
             return Ok(None);
         }
         let among_candidates = self.search_candidates(positions, radii_m)?;
@@ -853,6 +865,15 @@ mod tests {
         Turning,
     }
 
+    /// What a tracker did over a test run: its full and narrow searches, how many updates right
+    /// after a renumbering were narrow searches, and whether it listed close pairs by the end.
+    struct TrackerRun {
+        full: u64,
+        narrow: u64,
+        narrow_after_renumbering: u64,
+        lists_pairs: bool,
+    }
+
     /// Runs `steps` snapshots of a moving swarm through one tracker and checks every answer against
     /// the brute force; removes a few satellites (and brings some back) mid-run when `removals`.
     /// Returns (full, narrow) search counts.
@@ -863,13 +884,12 @@ mod tests {
         removals: bool,
         seed: u64,
     ) -> (u64, u64) {
-        let (full, narrow, _) = check_motion_renumbered(motion, n, steps, removals, false, seed);
-        (full, narrow)
+        let run = check_motion_renumbered(motion, n, steps, removals, false, seed);
+        (run.full, run.narrow)
     }
 
     /// [`check_motion`], the satellites renumbered by a random permutation every 9th step when
-    /// `renumber` (positions, velocities, radii and flags move with them, and the tracker is told):
-    /// also returns how many updates right after a renumbering were narrow searches.
+    /// `renumber` (positions, velocities, radii and flags move with them, and the tracker is told).
     fn check_motion_renumbered(
         motion: Motion,
         n: usize,
@@ -877,7 +897,7 @@ mod tests {
         removals: bool,
         renumber: bool,
         seed: u64,
-    ) -> (u64, u64, u64) {
+    ) -> TrackerRun {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut position: Vec<[f64; 3]> = Vec::with_capacity(n);
         let mut velocity: Vec<[f64; 3]> = Vec::with_capacity(n);
@@ -1025,11 +1045,12 @@ mod tests {
                 }
             }
         }
-        (
-            tracker.full_searches(),
-            tracker.narrow_searches(),
+        TrackerRun {
+            full: tracker.full_searches(),
+            narrow: tracker.narrow_searches(),
             narrow_after_renumbering,
-        )
+            lists_pairs: tracker.lists_pairs,
+        }
     }
 
     /// Renumbering the satellites between updates (as the engine's storage re-sort does) keeps every
@@ -1037,7 +1058,12 @@ mod tests {
     #[test]
     fn tracker_follows_a_renumbering() {
         for motion in [Motion::Random, Motion::Clustered, Motion::Colliding] {
-            let (full, narrow, after) = check_motion_renumbered(motion, 300, 60, true, true, 29);
+            let TrackerRun {
+                full,
+                narrow,
+                narrow_after_renumbering: after,
+                ..
+            } = check_motion_renumbered(motion, 300, 60, true, true, 29);
             assert!(
                 full >= 1 && narrow >= 10,
                 "{motion:?}: {full} full, {narrow} narrow"
@@ -1097,7 +1123,7 @@ mod tests {
                     "spacing {spacing_m} m, removals {removals}: {full} full, {narrow} narrow"
                 );
             }
-            let (full, narrow, _) =
+            let TrackerRun { full, narrow, .. } =
                 check_motion_renumbered(Motion::TiedLattice(spacing_m), 343, 40, true, true, 8);
             assert!(full >= 1 && narrow >= 10, "{full} full, {narrow} narrow");
         }
@@ -1105,11 +1131,18 @@ mod tests {
 
     /// Pairs that start close and drift apart stay candidates under their stale anchors (a tenth of
     /// the swarm, every step); once the narrow searches have searched as many candidates as the swarm
-    /// holds, a full search takes fresh anchors. Every answer equals the brute force.
+    /// holds, a full search takes fresh anchors, and as that came within a few narrow searches, the
+    /// full searches from then on list the close pairs. Every answer equals the brute force.
     #[test]
     fn stale_anchors_are_refreshed() {
-        let (full, narrow) = check_motion(Motion::Separating, 400, 30, false, 13);
-        assert!(full >= 2 && narrow >= 20, "{full} full, {narrow} narrow");
+        let run = check_motion_renumbered(Motion::Separating, 400, 30, false, false, 13);
+        assert!(
+            run.full >= 2 && run.narrow >= 20,
+            "{} full, {} narrow",
+            run.full,
+            run.narrow
+        );
+        assert!(run.lists_pairs);
     }
 
     /// Many candidates (more than the direct-comparison limit) go through the candidates' own grid.

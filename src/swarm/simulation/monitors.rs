@@ -107,6 +107,14 @@ impl TrackedPositions for LivePositions<'_> {
             Some(listed) => listed.binary_search(&id).ok(),
         }
     }
+
+    /// Every storage index: the id is the index (with some satellites not live, a bisection would
+    /// cost more than the miss it saves).
+    fn prefetch_id(&self, id: usize) {
+        if let (None, Some(state)) = (self.listed, self.relative.get(id)) {
+            crate::prefetch::read(&state.position_m);
+        }
+    }
 }
 
 impl LiveMetrics {
