@@ -456,6 +456,25 @@ pub(super) fn check_commands(
 mod tests {
     use super::*;
 
+    /// The separation updates are counted as full or narrow searches (at least one per tick), and
+    /// the first is a full one (no anchors yet): what `summary.json`'s `timing` reports.
+    #[test]
+    fn stage_timings_count_every_separation_search() {
+        let text = "name = \"t\"\nseed = 1\nduration_s = 20.0\nrecord_interval_s = 20.0\n\
+             [reference]\naltitude_m = 600e3\ninclination_deg = 97.8\n\
+             [satellites]\ncount = 300\nmass_kg = 5.0\nradius_m = 0.1\n\
+             initial = { distribution = \"sphere\", radius_m = 500.0 }\n\
+             [law]\nname = \"none\"\n[control]\nmode = \"sampled\"\nperiod_s = 1.0\n";
+        let scenario =
+            crate::scenario::Scenario::from_toml(text, "t", std::path::Path::new(".")).unwrap();
+        let mut sim = crate::run::build_simulation(&scenario).unwrap();
+        sim.run(&mut crate::swarm::NullRecorder, &mut |_| {})
+            .unwrap();
+        let timings = sim.stage_timings();
+        assert!(timings.separation_full_searches >= 1);
+        assert!(timings.separation_full_searches + timings.separation_narrow_searches >= 20);
+    }
+
     /// A non-finite applied command is reported for the smallest live id, whatever the chunks the
     /// parallel check splits the swarm into: bad commands in several chunks (one of them a removed
     /// satellite's, with a smaller id, which is skipped), on 1 and 4 threads.
