@@ -30,7 +30,7 @@ use super::{
     CommandKind, GuidanceLaw, Headline, LawContext, LawError, Neighbour, OwnSample, SatelliteView,
     SwarmFacts, SwarmView,
 };
-use crate::swarm::storage_order::{permute, Placement};
+use crate::swarm::storage_order::{Moves, Placement};
 use crate::swarm::{Actuator, DragCommand, CHUNK};
 
 /// Satellites whose own data a pass copies out together before evaluating them (loads by storage index, scattered
@@ -178,7 +178,7 @@ erased_law! {
             placement: Option<Placement<'_>>,
         ) -> Result<(), LawError>;
         /// Moves the states to the storage order in which new index `k` holds old index `moves[k]`.
-        pub(crate) fn permute_states(moves: &[u32], visited: &mut Vec<bool>);
+        pub(crate) fn permute_states(moves: &Moves);
         /// Updates every live satellite's state (removed satellites keep theirs), in the sensing grid's
         /// cell order if `in_cell_order` (see [`Law::update_states`]), else in storage order.
         fn update_states_in(
@@ -551,11 +551,16 @@ impl<L: GuidanceLaw> ErasedLaw for Stateful<L> {
         })
     }
 
-    fn permute_states(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
-        permute(&mut self.current, moves, visited);
-        if !self.next.is_empty() {
-            permute(&mut self.next, moves, visited);
-        }
+    fn permute_states(&mut self, moves: &Moves) {
+        let (current, next) = (&mut self.current, &mut self.next);
+        rayon::join(
+            || moves.apply(current),
+            || {
+                if !next.is_empty() {
+                    moves.apply(next);
+                }
+            },
+        );
     }
 
     fn target_formation_hill_m(&self) -> Option<Vec<Vector3<f64>>> {

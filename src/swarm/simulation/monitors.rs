@@ -17,7 +17,7 @@ use crate::swarm::simulation::sensing::CHUNK;
 use crate::swarm::simulation::Origin;
 use crate::swarm::simulation::{Divergence, SimError, Simulation, SimulationConfig};
 use crate::swarm::state::{reference_of, satellite_of};
-use crate::swarm::storage_order::permute;
+use crate::swarm::storage_order::Moves;
 use crate::swarm::Law;
 use rayon::prelude::*;
 
@@ -120,9 +120,9 @@ impl TrackedPositions for LivePositions<'_> {
 impl LiveMetrics {
     /// Moves the separation tracker's anchors (by storage index) to the storage order in which new
     /// index `k` holds old index `moves[k]`.
-    pub fn move_anchors(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+    pub fn move_anchors(&mut self, moves: &Moves) {
         self.tracker
-            .renumber(moves, |anchors| permute(anchors, moves, visited));
+            .renumber(moves.as_slice(), |anchors| moves.apply(anchors));
     }
 
     /// The separation tracker's full searches so far.

@@ -12,7 +12,7 @@
 //! So a run gives the same bits re-sorted at every tick or never (tested below, on every law).
 
 use crate::swarm::simulation::{ControlTiming, Simulation};
-use crate::swarm::storage_order::permute;
+use crate::swarm::storage_order::Moves;
 
 /// Control ticks between two re-sorts of the storage order (sampled control only). Satellites drift
 /// across cells slowly compared with a tick, and a re-sort costs a few passes over the swarm.
@@ -40,23 +40,33 @@ impl Simulation {
         else {
             return; // a non-finite position: the divergence check stops the run
         };
-        let moves = cells.to_vec();
-        if moves.iter().enumerate().all(|(k, &i)| k == i as usize) {
+        let moves = Moves::new(cells.to_vec());
+        if moves.is_identity() {
             return;
         }
-        let mut visited = Vec::new();
-        for component in self.state.satellite_components_mut() {
-            permute(component, &moves, &mut visited);
-        }
-        self.satellites.permute(&moves, &mut visited);
-        if let Some(guesses) = self.integration.step_guesses_s() {
-            permute(guesses, &moves, &mut visited);
-        }
-        self.law.permute_states(&moves, &mut visited);
+        // Every array moves on its own, in parallel.
+        let (state, satellites, integration, law) = (
+            &mut self.state,
+            &mut self.satellites,
+            &mut self.integration,
+            &mut self.law,
+        );
+        rayon::join(
+            || {
+                moves.apply_all(state.satellite_components_mut().collect());
+                if let Some(guesses) = integration.step_guesses_s() {
+                    moves.apply(guesses);
+                }
+            },
+            || rayon::join(|| satellites.permute(&moves), || law.permute_states(&moves)),
+        );
         // The sensing grid's neighbour list is by storage index: renumbered, it lasts.
-        self.sensed.grids.grid.renumber_neighbour_list(&moves);
+        self.sensed
+            .grids
+            .grid
+            .renumber_neighbour_list(moves.as_slice());
         // The separation tracker's anchors are by storage index: they move too.
-        self.monitors.live.move_anchors(&moves, &mut visited);
+        self.monitors.live.move_anchors(&moves);
         // The conjunction screen's candidate pairs are by storage index: it builds them again.
         if let Some(conjunctions) = &mut self.monitors.conjunctions {
             conjunctions.storage_order_changed();

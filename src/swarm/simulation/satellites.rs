@@ -14,7 +14,7 @@ use crate::orbit::RelativeStateHill;
 use crate::swarm::actuator::Actuator;
 use crate::swarm::drag_attitude::DragAttitudes;
 use crate::swarm::simulation::config::SatelliteInit;
-use crate::swarm::storage_order::{permute, StorageOrder};
+use crate::swarm::storage_order::{Moves, StorageOrder};
 
 /// Per-satellite properties that change only through events, as structure-of-arrays.
 pub(in crate::swarm::simulation) struct Fleet {
@@ -195,7 +195,7 @@ impl Satellites {
     }
 
     /// Moves every column to the storage order in which new index `k` holds old index `moves[k]`.
-    pub fn permute(&mut self, moves: &[u32], visited: &mut Vec<bool>) {
+    pub fn permute(&mut self, moves: &Moves) {
         // Exhaustive destructuring, no `..`: a column added to the table must be permuted here.
         let Satellites {
             fleet:
@@ -218,27 +218,30 @@ impl Satellites {
             drag_delta_v_mps,
             commands_zero: _,
         } = self;
-        permute(masses_kg, moves, visited);
-        if surfaces.len() > 1 {
-            permute(surfaces, moves, visited);
-        }
-        permute(radii_m, moves, visited);
-        permute(actuators, moves, visited);
-        if !drag_attitudes.is_empty() {
-            permute(drag_attitudes, moves, visited);
-            permute(drag_changed_s, moves, visited);
-            permute(drag_switches, moves, visited);
-            permute(drag_delta_v_mps, moves, visited);
-        }
-        permute(active, moves, visited);
-        permute(links_up, moves, visited);
-        permute(truth, moves, visited);
-        permute(applied_hill, moves, visited);
-        if !commanded_hill.is_empty() {
-            permute(commanded_hill, moves, visited);
-        }
-        permute(held_control, moves, visited);
-        order.apply(moves, visited);
+        // Each array on its own: the arrays move in parallel.
+        rayon::scope(|scope| {
+            scope.spawn(|_| moves.apply(masses_kg));
+            if surfaces.len() > 1 {
+                scope.spawn(|_| moves.apply(surfaces));
+            }
+            scope.spawn(|_| moves.apply(radii_m));
+            scope.spawn(|_| moves.apply(actuators));
+            if !drag_attitudes.is_empty() {
+                scope.spawn(|_| moves.apply(drag_attitudes));
+                scope.spawn(|_| moves.apply(drag_changed_s));
+                scope.spawn(|_| moves.apply(drag_switches));
+                scope.spawn(|_| moves.apply(drag_delta_v_mps));
+            }
+            scope.spawn(|_| moves.apply(active));
+            scope.spawn(|_| moves.apply(links_up));
+            scope.spawn(|_| moves.apply(truth));
+            scope.spawn(|_| moves.apply(applied_hill));
+            if !commanded_hill.is_empty() {
+                scope.spawn(|_| moves.apply(commanded_hill));
+            }
+            scope.spawn(|_| moves.apply(held_control));
+            scope.spawn(|_| order.apply(moves));
+        });
     }
 }
 
