@@ -437,9 +437,30 @@ pub(super) fn check_commands(
         .par_iter()
         .enumerate()
         .with_min_len(CHUNK)
-        .filter(|&(i, u)| fleet.active[i] && !u.norm().is_finite())
-        .map(|(i, u)| (fleet.order.id_at(i), u))
+        .filter_map(|(i, u)| bad_command(fleet, i, u))
         .min_by_key(|(id, _)| *id);
+    bad_command_error(bad, law, tick, time_s)
+}
+
+/// The id of the satellite at storage index `i` and its applied command `u` (Hill frame \[m/s^2\] or
+/// \[m/s\]) if it is live and the command's norm is not finite.
+#[inline]
+pub(super) fn bad_command(
+    fleet: &Fleet,
+    i: usize,
+    u: &Vector3<f64>,
+) -> Option<(usize, Vector3<f64>)> {
+    (fleet.active[i] && !u.norm().is_finite()).then(|| (fleet.order.id_at(i), *u))
+}
+
+/// The error stopping the run at tick `tick` (time `time_s` \[s\]) for the bad command of the smallest
+/// id, `bad` ([`bad_command`]); `Ok` when there is none.
+pub(super) fn bad_command_error(
+    bad: Option<(usize, Vector3<f64>)>,
+    law: &Law,
+    tick: u64,
+    time_s: f64,
+) -> Result<(), SimError> {
     match bad {
         None => Ok(()),
         Some((satellite, u)) => Err(SimError::BadCommand {
@@ -515,6 +536,14 @@ mod tests {
                 }
                 other => panic!("{threads} threads: {other:?}"),
             }
+            // The sampled tick checks in the pass that holds the commands: the same answer.
+            sim.satellites.applied_hill.clone_from(&applied);
+            let held = pool.install(|| sim.hold_commands(None));
+            assert_eq!(held.map(|(id, _)| id), Some(2 * CHUNK + 1), "{threads}");
+            assert_eq!(
+                sim.satellites.held_control[4 * CHUNK + 3].y.to_bits(),
+                f64::NAN.to_bits()
+            );
         }
     }
 

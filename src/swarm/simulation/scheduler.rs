@@ -17,7 +17,7 @@ use crate::orbit::LvlhFrame;
 use crate::random::{Purpose, RandomStream};
 use crate::swarm::dynamics::DynamicsModel;
 use crate::swarm::recorder::Recorder;
-use crate::swarm::simulation::monitors::check_commands;
+use crate::swarm::simulation::monitors::{bad_command, bad_command_error, check_commands};
 use crate::swarm::simulation::propagation::{CoupledSwarm, SampledSegment};
 use crate::swarm::simulation::satellites::Satellites;
 use crate::swarm::simulation::sensing::{Plant, CHUNK};
@@ -366,14 +366,8 @@ impl Simulation {
                 .dynamics
                 .is_inertial()
                 .then(|| plant.frame(t0, self.state.as_slice()));
-            self.hold_commands(frame);
-            check_commands(
-                &self.satellites.applied_hill,
-                &self.satellites.fleet,
-                &self.law,
-                tick,
-                t0,
-            )?;
+            let bad = self.hold_commands(frame);
+            bad_command_error(bad, &self.law, tick, t0)?;
         }
         if stateful {
             self.apply_drag_commands(t0, tick)?;
@@ -467,29 +461,47 @@ impl Simulation {
         }
     }
 
-    /// Holds the tick's applied commands (plus process noise) in the dynamics frame until the next tick.
-    fn hold_commands(&mut self, frame: Option<LvlhFrame>) {
+    /// Holds the tick's applied commands (plus process noise) in the dynamics frame until the next tick,
+    /// and returns the live satellite of smallest id whose applied command is not finite, if any
+    /// (the check of [`check_commands`], in the same pass).
+    pub(super) fn hold_commands(
+        &mut self,
+        frame: Option<LvlhFrame>,
+    ) -> Option<(usize, Vector3<f64>)> {
         let kinematic = matches!(self.config.dynamics, DynamicsModel::Kinematic);
         let process_hill = &self.noise.process_hill;
-        // In parallel: each satellite on its own (a rotation each, a serial millisecond or more on a
-        // large swarm).
+        let (fleet, applied_hill) = (&self.satellites.fleet, &self.satellites.applied_hill);
+        // In parallel over fixed chunks, each a plain loop (a rotation and a root per satellite are a
+        // serial millisecond or more on a large swarm). The smallest id is unique, so the answer does
+        // not depend on the split.
         self.satellites
             .held_control
-            .par_iter_mut()
-            .zip(&self.satellites.applied_hill)
+            .par_chunks_mut(CHUNK)
             .enumerate()
-            .with_min_len(CHUNK)
-            .for_each(|(i, (held, u))| {
-                let total = if kinematic {
-                    *u
-                } else {
-                    u + process_noise_of(process_hill, i)
-                };
-                *held = match &frame {
-                    Some(f) => f.vector_hill_to_eci(&total),
-                    None => total,
-                };
-            });
+            .filter_map(|(chunk, held)| {
+                let first = chunk * CHUNK;
+                let mut smallest: Option<(usize, Vector3<f64>)> = None;
+                for (k, held) in held.iter_mut().enumerate() {
+                    let i = first + k;
+                    let u = &applied_hill[i];
+                    let total = if kinematic {
+                        *u
+                    } else {
+                        u + process_noise_of(process_hill, i)
+                    };
+                    *held = match &frame {
+                        Some(f) => f.vector_hill_to_eci(&total),
+                        None => total,
+                    };
+                    if let Some(bad) = bad_command(fleet, i, u) {
+                        if smallest.is_none_or(|(id, _)| bad.0 < id) {
+                            smallest = Some(bad);
+                        }
+                    }
+                }
+                smallest
+            })
+            .min_by_key(|(id, _)| *id)
     }
 
     /// Kinematic model, continuous mode: after a segment each satellite's velocity state is the command
