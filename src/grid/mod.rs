@@ -318,33 +318,45 @@ impl NeighbourGrid {
         if n > MAX_POINTS {
             return Err(NeighbourError::TooManyPoints { n, max: MAX_POINTS });
         }
-        // The bounding box (minima and maxima: the same values whatever the split), and whether every
-        // coordinate is finite, in one pass over fixed chunks, each a plain loop. Plain comparisons
-        // skip a NaN, which the finiteness flag reports (the box is then not used).
-        let (mut lo, mut hi, finite) = (0..n.div_ceil(PARALLEL_MIN_LEN))
+        // The bounding box (minima and maxima: the same values whatever the split), whether every
+        // coordinate is finite, and, with a neighbour list of these satellites, the largest squared
+        // move since it was made (its check, read with the positions), in one pass over fixed chunks,
+        // each a plain loop. Plain comparisons skip a NaN, which the finiteness flag reports (the box
+        // is then not used).
+        let made_at = self.keeps_list.then(|| self.list.made_at_of(n)).flatten();
+        let (mut lo, mut hi, finite, largest_move_m2) = (0..n.div_ceil(PARALLEL_MIN_LEN))
             .into_par_iter()
             .map(|chunk| {
                 let (mut lo, mut hi, mut finite) =
                     ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true);
+                let mut largest_move_m2: f64 = 0.0;
                 for i in chunk * PARALLEL_MIN_LEN..((chunk + 1) * PARALLEL_MIN_LEN).min(n) {
-                    for (a, v) in position_m(i).into_iter().enumerate() {
+                    let now = position_m(i);
+                    for (a, v) in now.into_iter().enumerate() {
                         lo[a] = if v < lo[a] { v } else { lo[a] };
                         hi[a] = if v > hi[a] { v } else { hi[a] };
                         finite &= v.is_finite();
                     }
+                    if let Some(made_at) = made_at {
+                        let then = made_at[i];
+                        let (dx, dy, dz) = (now[0] - then[0], now[1] - then[1], now[2] - then[2]);
+                        largest_move_m2 = largest_move_m2.max(dx * dx + dy * dy + dz * dz);
+                    }
                 }
-                (lo, hi, finite)
+                (lo, hi, finite, largest_move_m2)
             })
             .reduce(
-                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true),
-                |(lo_a, hi_a, finite_a), (lo_b, hi_b, finite_b)| {
+                || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3], true, 0.0),
+                |(lo_a, hi_a, finite_a, move_a), (lo_b, hi_b, finite_b, move_b)| {
                     (
                         [0, 1, 2].map(|a| lo_a[a].min(lo_b[a])),
                         [0, 1, 2].map(|a| hi_a[a].max(hi_b[a])),
                         finite_a && finite_b,
+                        move_a.max(move_b),
                     )
                 },
             );
+        let largest_move_m2 = made_at.map(|_| largest_move_m2);
         if !finite {
             // The first satellite with a non-finite coordinate (a search only on this error path).
             let i = (0..n)
@@ -410,7 +422,7 @@ impl NeighbourGrid {
         }
         if self.keeps_list {
             let mut list = std::mem::take(&mut self.list);
-            list.refresh(self, &position_m, &self.reach_seen);
+            list.refresh(self, &position_m, &self.reach_seen, largest_move_m2);
             self.list = list;
         }
         Ok(())

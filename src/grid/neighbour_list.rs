@@ -92,21 +92,31 @@ impl NeighbourList {
         self.made
     }
 
+    /// Where every satellite was when the list was made (m, by index), if there is a list of `n`
+    /// satellites: the grid's build measures how far they have moved in its first pass.
+    pub(super) fn made_at_of(&self, n: usize) -> Option<&[[f64; 3]]> {
+        (self.reach_m > 0.0 && self.made_at_m.len() == n).then_some(&self.made_at_m[..])
+    }
+
     /// Brings the list up to date with the grid's new build over `position_m` (the build's positions
-    /// by index): kept while every satellite is within half the skin of where the list was made and
-    /// the reach queried since the last build (`seen`) is one it serves well, made again for that
-    /// reach otherwise (or dropped, when nothing was queried and it no longer holds).
+    /// by index), in which the largest squared distance of a satellite from where the list was made is
+    /// `largest_move_m2` (m², over [`Self::made_at_of`]; `None` without a list): kept while every
+    /// satellite is within half the skin of where the list was made and the reach queried since the
+    /// last build (`seen`) is one it serves well, made again for that reach otherwise (or dropped,
+    /// when nothing was queried and it no longer holds).
     pub(super) fn refresh(
         &mut self,
         grid: &NeighbourGrid,
         position_m: &(impl Fn(usize) -> [f64; 3] + Sync),
         seen: &ReachSeen,
+        largest_move_m2: Option<f64>,
     ) {
         let queried_m = seen.take();
         let n = grid.len();
         let reach_fits = queried_m == 0.0
             || (queried_m <= self.reach_m && queried_m >= SHRINK_BELOW * self.reach_m);
-        if self.reach_m > 0.0 && reach_fits && self.made_at_m.len() == n && self.holds(position_m) {
+        let holds = largest_move_m2.is_some_and(|moved_m2| self.holds(moved_m2));
+        if self.reach_m > 0.0 && reach_fits && self.made_at_m.len() == n && holds {
             return;
         }
         self.reach_m = 0.0;
@@ -116,26 +126,11 @@ impl NeighbourList {
     }
 
     /// Whether no satellite has moved half the skin (less the rounding allowance) since the list was
-    /// made.
-    fn holds(&self, position_m: &(impl Fn(usize) -> [f64; 3] + Sync)) -> bool {
+    /// made, the largest squared move being `largest_move_m2` (m²).
+    fn holds(&self, largest_move_m2: f64) -> bool {
         let skin_m = self.reach_m * SKIN_FRACTION;
         let limit_m = 0.5 * (skin_m - ROUNDING_ALLOWANCE * (self.reach_m + skin_m));
-        let made_at = &self.made_at_m;
-        let largest2 = made_at
-            .par_chunks(PARALLEL_MIN_LEN)
-            .enumerate()
-            .map(|(chunk, made_at)| {
-                let first = chunk * PARALLEL_MIN_LEN;
-                let mut largest2: f64 = 0.0;
-                for (k, then) in made_at.iter().enumerate() {
-                    let now = position_m(first + k);
-                    let (dx, dy, dz) = (now[0] - then[0], now[1] - then[1], now[2] - then[2]);
-                    largest2 = largest2.max(dx * dx + dy * dy + dz * dz);
-                }
-                largest2
-            })
-            .reduce(|| 0.0, f64::max);
-        largest2 <= limit_m * limit_m
+        largest_move_m2 <= limit_m * limit_m
     }
 
     /// Makes the list for reach `reach_m` from the grid's walk at `reach · (1 + skin)`.
