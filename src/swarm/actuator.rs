@@ -41,7 +41,13 @@ impl Actuator {
     /// then the limit applied. A command with a non-finite component, or (norm limit) whose norm
     /// overflows (above about 1e154 m/s^2), is returned as it is, never saturated to zero or to the
     /// limit: the engine refuses it ([`crate::swarm::SimError::BadCommand`]).
+    #[inline]
     pub fn apply(&self, commanded_hill_m_s2: &Vector3<f64>) -> Vector3<f64> {
+        if self.max_accel_m_s2 == f64::INFINITY && self.working_axes == [true; 3] {
+            // Nothing to apply: no norm exceeds an infinite limit, and clamping to ±infinity keeps
+            // every value (a NaN too). Skips the norm's square root on the common unlimited actuator.
+            return *commanded_hill_m_s2;
+        }
         let mut a = *commanded_hill_m_s2;
         for k in 0..3 {
             if !self.working_axes[k] {
@@ -86,6 +92,31 @@ mod tests {
             Actuator::new(1.0, LimitKind::PerAxis).apply(&big),
             Vector3::new(1.0, 1.0, 0.0)
         );
+    }
+
+    /// An unlimited actuator with every axis working delivers the command bit for bit, whatever it
+    /// is (as the limit would: no norm exceeds infinity, clamping to ±infinity changes nothing); a
+    /// failed axis still delivers nothing.
+    #[test]
+    fn unlimited_actuator_delivers_the_command_itself() {
+        let commands = [
+            Vector3::new(0.1, -0.2, 0.3),
+            Vector3::new(-0.0, 0.0, -0.0),
+            Vector3::new(1e160, -1e160, 1e300),
+            Vector3::new(f64::NAN, 1.0, f64::NEG_INFINITY),
+        ];
+        for kind in [LimitKind::Norm, LimitKind::PerAxis] {
+            let unlimited = Actuator::new(f64::INFINITY, kind);
+            for c in &commands {
+                assert_eq!(unlimited.apply(c).map(f64::to_bits), c.map(f64::to_bits));
+            }
+            let failed = Actuator {
+                working_axes: [true, false, true],
+                ..unlimited
+            };
+            let a = failed.apply(&commands[0]);
+            assert_eq!(a, Vector3::new(0.1, 0.0, 0.3));
+        }
     }
 
     #[test]

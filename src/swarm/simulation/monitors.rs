@@ -450,7 +450,8 @@ pub(super) fn bad_command(
     i: usize,
     u: &Vector3<f64>,
 ) -> Option<(usize, Vector3<f64>)> {
-    (fleet.active[i] && !u.norm().is_finite()).then(|| (fleet.order.id_at(i), *u))
+    // The norm is the root of the squared norm, so one is finite exactly when the other is.
+    (fleet.active[i] && !u.norm_squared().is_finite()).then(|| (fleet.order.id_at(i), *u))
 }
 
 /// The error stopping the run at tick `tick` (time `time_s` \[s\]) for the bad command of the smallest

@@ -266,13 +266,7 @@ impl SampledSegment<'_> {
                 drag_area_per_mass_m2_per_kg,
             } => {
                 if kernel.has_drag() {
-                    drag_area_per_mass_m2_per_kg
-                        .par_iter_mut()
-                        .with_min_len(CHUNK)
-                        .enumerate()
-                        .for_each(|(i, b)| {
-                            *b = fleet.properties(i).drag_area_per_mass_m2_per_kg();
-                        });
+                    fleet.drag_areas_per_mass_into(drag_area_per_mass_m2_per_kg);
                 }
                 let inputs = SegmentInputs {
                     control_eci_m_s2: (!commands_zero).then_some(held),

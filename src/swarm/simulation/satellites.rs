@@ -8,6 +8,7 @@
 //! [`Fleet::order`].
 
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use crate::dynamics::PhysicalProperties;
 use crate::orbit::RelativeStateHill;
@@ -15,6 +16,7 @@ use crate::swarm::actuator::Actuator;
 use crate::swarm::drag_attitude::DragAttitudes;
 use crate::swarm::simulation::config::SatelliteInit;
 use crate::swarm::storage_order::{Moves, StorageOrder};
+use crate::swarm::CHUNK;
 
 /// Per-satellite properties that change only through events, as structure-of-arrays.
 pub(in crate::swarm::simulation) struct Fleet {
@@ -78,6 +80,33 @@ impl Fleet {
         match self.surfaces.as_slice() {
             [fleet] => fleet,
             each => &each[index],
+        }
+    }
+
+    /// Every satellite's drag term `C_d A / m` \[m^2/kg\] by storage index into `out` (one entry per
+    /// satellite), exactly as [`PhysicalProperties::drag_area_per_mass_m2_per_kg`] forms it: in
+    /// parallel over fixed chunks of plain loops (with one surfaces entry for the fleet, a division
+    /// of one constant by each mass, which vectorises).
+    pub fn drag_areas_per_mass_into(&self, out: &mut [f64]) {
+        let chunks = out
+            .par_chunks_mut(CHUNK)
+            .zip(self.masses_kg.par_chunks(CHUNK))
+            .enumerate();
+        match self.surfaces.as_slice() {
+            [fleet] => {
+                let area_m2 = fleet.drag_coefficient * fleet.drag_area_m2;
+                chunks.for_each(|(_, (out, masses_kg))| {
+                    for (out, mass_kg) in out.iter_mut().zip(masses_kg) {
+                        *out = area_m2 / mass_kg;
+                    }
+                });
+            }
+            each => chunks.for_each(|(chunk, (out, masses_kg))| {
+                let surfaces = &each[chunk * CHUNK..];
+                for ((out, mass_kg), s) in out.iter_mut().zip(masses_kg).zip(surfaces) {
+                    *out = s.drag_coefficient * s.drag_area_m2 / mass_kg;
+                }
+            }),
         }
     }
 
@@ -285,10 +314,22 @@ mod tests {
             for (i, p) in properties.iter().enumerate() {
                 assert_eq!(fleet.properties(i), *p);
             }
+            // Masses of their own, so that the drag terms differ.
+            fleet.masses_kg = vec![10.0, 3.0, 7.5, 11.0, 0.9];
+            let drag_terms_agree = |fleet: &Fleet| {
+                let mut terms = vec![f64::NAN; 5];
+                fleet.drag_areas_per_mass_into(&mut terms);
+                for (i, term) in terms.iter().enumerate() {
+                    let want = fleet.properties(i).drag_area_per_mass_m2_per_kg();
+                    assert_eq!(term.to_bits(), want.to_bits(), "satellite {i}");
+                }
+            };
+            drag_terms_agree(&fleet);
             if !areas_fixed {
                 fleet.set_drag_area_m2(3, 0.7);
                 assert_eq!(fleet.drag_area_m2(3), 0.7);
                 assert_eq!(fleet.drag_area_m2(2), properties[2].drag_area_m2);
+                drag_terms_agree(&fleet);
             }
         }
     }
