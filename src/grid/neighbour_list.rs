@@ -100,7 +100,8 @@ impl NeighbourList {
 
     /// Brings the list up to date with the grid's new build over `position_m` (the build's positions
     /// by index), in which the largest squared distance of a satellite from where the list was made is
-    /// `largest_move_m2` (m², over [`Self::made_at_of`]; `None` without a list): kept while every
+    /// `largest_move_m2` (m², over [`Self::made_at_of`]; `None` without a list of these satellites):
+    /// kept while every
     /// satellite is within half the skin of where the list was made and the reach queried since the
     /// last build (`seen`) is one it serves well, made again for that reach otherwise (or dropped,
     /// when nothing was queried and it no longer holds).
@@ -115,8 +116,7 @@ impl NeighbourList {
         let n = grid.len();
         let reach_fits = queried_m == 0.0
             || (queried_m <= self.reach_m && queried_m >= SHRINK_BELOW * self.reach_m);
-        let holds = largest_move_m2.is_some_and(|moved_m2| self.holds(moved_m2));
-        if self.reach_m > 0.0 && reach_fits && self.made_at_m.len() == n && holds {
+        if reach_fits && largest_move_m2.is_some_and(|moved_m2| self.holds(moved_m2)) {
             return;
         }
         self.reach_m = 0.0;

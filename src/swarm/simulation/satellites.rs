@@ -49,6 +49,18 @@ pub(in crate::swarm::simulation) struct Surfaces {
 }
 
 impl Surfaces {
+    /// The physical properties of a satellite of mass `mass_kg` \[kg\] with these surfaces.
+    #[inline]
+    fn with_mass(&self, mass_kg: f64) -> PhysicalProperties {
+        PhysicalProperties {
+            mass_kg,
+            drag_area_m2: self.drag_area_m2,
+            drag_coefficient: self.drag_coefficient,
+            srp_area_m2: self.srp_area_m2,
+            reflectivity_coefficient: self.reflectivity_coefficient,
+        }
+    }
+
     pub fn of(p: &PhysicalProperties) -> Self {
         Self {
             drag_area_m2: p.drag_area_m2,
@@ -84,27 +96,24 @@ impl Fleet {
     }
 
     /// Every satellite's drag term `C_d A / m` \[m^2/kg\] by storage index into `out` (one entry per
-    /// satellite), exactly as [`PhysicalProperties::drag_area_per_mass_m2_per_kg`] forms it: in
-    /// parallel over fixed chunks of plain loops (with one surfaces entry for the fleet, a division
-    /// of one constant by each mass, which vectorises).
+    /// satellite), by [`PhysicalProperties::drag_area_per_mass_m2_per_kg`]: in parallel over fixed
+    /// chunks of plain loops (with one surfaces entry for the fleet, its `C_d A` is the same constant
+    /// over each mass).
     pub fn drag_areas_per_mass_into(&self, out: &mut [f64]) {
         let chunks = out
             .par_chunks_mut(CHUNK)
             .zip(self.masses_kg.par_chunks(CHUNK))
             .enumerate();
         match self.surfaces.as_slice() {
-            [fleet] => {
-                let area_m2 = fleet.drag_coefficient * fleet.drag_area_m2;
-                chunks.for_each(|(_, (out, masses_kg))| {
-                    for (out, mass_kg) in out.iter_mut().zip(masses_kg) {
-                        *out = area_m2 / mass_kg;
-                    }
-                });
-            }
+            [fleet] => chunks.for_each(|(_, (out, masses_kg))| {
+                for (out, mass_kg) in out.iter_mut().zip(masses_kg) {
+                    *out = fleet.with_mass(*mass_kg).drag_area_per_mass_m2_per_kg();
+                }
+            }),
             each => chunks.for_each(|(chunk, (out, masses_kg))| {
                 let surfaces = &each[chunk * CHUNK..];
                 for ((out, mass_kg), s) in out.iter_mut().zip(masses_kg).zip(surfaces) {
-                    *out = s.drag_coefficient * s.drag_area_m2 / mass_kg;
+                    *out = s.with_mass(*mass_kg).drag_area_per_mass_m2_per_kg();
                 }
             }),
         }
@@ -126,14 +135,7 @@ impl Fleet {
     /// The physical properties of the satellite at storage index `index`.
     #[inline]
     pub fn properties(&self, index: usize) -> PhysicalProperties {
-        let s = self.surfaces(index);
-        PhysicalProperties {
-            mass_kg: self.masses_kg[index],
-            drag_area_m2: s.drag_area_m2,
-            drag_coefficient: s.drag_coefficient,
-            srp_area_m2: s.srp_area_m2,
-            reflectivity_coefficient: s.reflectivity_coefficient,
-        }
+        self.surfaces(index).with_mass(self.masses_kg[index])
     }
 }
 
