@@ -764,35 +764,54 @@ impl NeighbourGrid {
         let p = [self.xs[si], self.ys[si], self.zs[si]];
         let c = self.cell_of(p);
         let mut best: Option<Neighbour> = None;
-        let consider = |s: usize, best: &mut Option<Neighbour>| {
-            if s == si || self.hidden_slot(s) {
-                return;
-            }
-            let (dx, dy, dz) = (self.xs[s] - p[0], self.ys[s] - p[1], self.zs[s] - p[2]);
-            let d = (dx * dx + dy * dy + dz * dz).sqrt();
-            let j = self.items[s] as usize;
-            let better = match *best {
-                None => true,
-                Some(b) => d < b.distance_m || (d == b.distance_m && j < b.index),
-            };
-            if better {
-                *best = Some(Neighbour {
-                    index: j,
-                    dx_m: dx,
-                    dy_m: dy,
-                    dz_m: dz,
-                    distance_m: d,
-                });
+        // A candidate farther than the best so far in squared distance by more than the rounding of a
+        // root is not at or below its distance: each row of cells is scanned for squared distances
+        // alone (no bounds checks, no root: the root's latency and the compare waiting on it were most
+        // of a query), and only a candidate within the bound is compared exactly.
+        let mut reach_m2 = f64::INFINITY;
+        let mut scan = |slots: Range<usize>, best: &mut Option<Neighbour>| {
+            let first = slots.start;
+            let (xs, ys, zs) = (
+                &self.xs[slots.clone()],
+                &self.ys[slots.clone()],
+                &self.zs[slots],
+            );
+            for (k, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
+                let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
+                let d2 = dx * dx + dy * dy + dz * dz;
+                if d2 > reach_m2 {
+                    continue;
+                }
+                let s = first + k;
+                if s == si || self.hidden_slot(s) {
+                    continue;
+                }
+                let d = d2.sqrt();
+                let j = self.items[s] as usize;
+                let better = match *best {
+                    None => true,
+                    Some(b) => d < b.distance_m || (d == b.distance_m && j < b.index),
+                };
+                if better {
+                    *best = Some(Neighbour {
+                        index: j,
+                        dx_m: dx,
+                        dy_m: dy,
+                        dz_m: dz,
+                        distance_m: d,
+                    });
+                    reach_m2 = squared_distance_bound_m2(d);
+                }
             }
         };
         let gap = self.cell_m * GAP_FACTOR;
         let max_k = self.max_dim();
         for k in 0..=max_k {
             if self.block_cells(c, k) > self.brute_force_threshold() {
-                (0..self.len()).for_each(|s| consider(s, &mut best));
+                scan(0..self.len(), &mut best);
                 return best;
             }
-            self.visit_ring(c, k, &mut |s| consider(s, &mut best));
+            self.visit_ring(c, k, &mut |slots| scan(slots, &mut best));
             // Everything not yet visited is more than k · gap away.
             if best.is_some_and(|b| b.distance_m <= k as f64 * gap) {
                 return best;
@@ -898,26 +917,35 @@ impl NeighbourGrid {
         }
     }
 
-    /// Visits every slot in the cells at Chebyshev distance exactly `k` from cell `c` (clamped).
-    fn visit_ring(&self, c: [u64; 3], k: u64, f: &mut impl FnMut(usize)) {
+    /// Visits every slot in the cells at Chebyshev distance exactly `k` from cell `c` (clamped), as
+    /// ranges of slots (rows of cells).
+    fn visit_ring(&self, c: [u64; 3], k: u64, f: &mut impl FnMut(Range<usize>)) {
         let (x_lo, x_hi) = self.span(c, k, 0);
         let (y_lo, y_hi) = self.span(c, k, 1);
         let (z_lo, z_hi) = self.span(c, k, 2);
         for z in z_lo..=z_hi {
             for y in y_lo..=y_hi {
                 if z.abs_diff(c[2]) == k || y.abs_diff(c[1]) == k {
-                    self.row(y, z, x_lo, x_hi).for_each(&mut *f);
+                    f(self.row(y, z, x_lo, x_hi));
                 } else {
                     if c[0] >= k {
-                        self.row(y, z, c[0] - k, c[0] - k).for_each(&mut *f);
+                        f(self.row(y, z, c[0] - k, c[0] - k));
                     }
                     if k > 0 && c[0] + k < self.dims[0] {
-                        self.row(y, z, c[0] + k, c[0] + k).for_each(&mut *f);
+                        f(self.row(y, z, c[0] + k, c[0] + k));
                     }
                 }
             }
         }
     }
+}
+
+/// A squared distance \[m²\] at or above every `d2` whose rounded square root is at most `distance_m`
+/// (a rounded root `√d2`): `d2` above it has a root above `distance_m`. The square times 1 + 4ε
+/// covers the roundings of both roots and of the square; where the square is subnormal (distances
+/// below 2⁻⁵¹¹ m), the smallest normal number does (a `d2` above it has a root of at least 2⁻⁵¹¹).
+fn squared_distance_bound_m2(distance_m: f64) -> f64 {
+    (distance_m * distance_m * (1.0 + 4.0 * f64::EPSILON)).max(f64::MIN_POSITIVE)
 }
 
 /// Sorts the satellites of each cell (`items[cell_start[c] .. cell_start[c + 1]]`, slots counted from
@@ -1198,6 +1226,40 @@ mod tests {
                 ranks: 2
             })
         );
+    }
+
+    /// The nearest-neighbour search drops a candidate whose squared distance is above
+    /// `squared_distance_bound_m2(d)` without its root: every such candidate's rounded root must be above
+    /// `d`. The first double above the bound has a root above `d` (so every larger one does), for
+    /// distances that are roots of squared distances across the range: ordinary, with mantissas at the
+    /// rounding edges, tiny (squares subnormal or zero), zero, and huge (square overflowing).
+    #[test]
+    fn nothing_above_the_squared_bound_has_a_root_at_or_below_the_distance() {
+        let mut squares = vec![0.0, f64::MIN_POSITIVE, 1e-320, 5e-324, 1e300, f64::MAX];
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            // Random bits for the mantissa, exponents over the whole normal range.
+            let mantissa = 1.0 + (state >> 12) as f64 / (1u64 << 52) as f64;
+            let exponent = (state % 2000) as i32 - 1000;
+            squares.push(mantissa * 2f64.powi(exponent));
+        }
+        for d2 in squares {
+            let d = d2.sqrt();
+            let bound = squared_distance_bound_m2(d);
+            assert!(
+                bound >= d2,
+                "{d2:e}: bound {bound:e} below the square it came from"
+            );
+            let above = bound.next_up();
+            assert!(
+                above.sqrt() > d,
+                "{d2:e}: {above:e} above the bound {bound:e} has root {:e} <= {d:e}",
+                above.sqrt()
+            );
+        }
     }
 
     /// `cell_of` is floor((p − origin) / cell) clamped into [0, dims − 1] on every axis, with NaN in
