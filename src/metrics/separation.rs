@@ -67,27 +67,33 @@ pub struct Separation {
 /// [`MetricsError::TooFewSatellites`] when the grid holds fewer than two satellites;
 /// [`MetricsError::LengthMismatch`] / [`MetricsError::InvalidRadius`] for bad radii.
 pub fn min_separation(grid: &NeighbourGrid, radii_m: &[f64]) -> Result<Separation, MetricsError> {
-    search(grid, radii_m, &mut Vec::new())
+    search(grid, radii_m, &mut Vec::new(), &mut Vec::new())
 }
 
 /// [`min_separation`], also writing every satellite's nearest-neighbour distance (m) into `nearest_m`
-/// (resized to the grid's length).
+/// (resized to the grid's length; `by_slot_m` is scratch). The queries run in the grid's storage
+/// order (consecutive queries then read the same rows of cells, in cache; in the order of the
+/// satellites, twice as slow at 10⁶ in the engine), and their distances are gathered back by
+/// satellite; the minimum with its tie-break and the collision count do not depend on the order.
 fn search(
     grid: &NeighbourGrid,
     radii_m: &[f64],
     nearest_m: &mut Vec<f64>,
+    by_slot_m: &mut Vec<f64>,
 ) -> Result<Separation, MetricsError> {
     let n = grid.len();
     if n < 2 {
         return Err(MetricsError::TooFewSatellites { n });
     }
     let a_max = check_radii(radii_m, n)?;
-    nearest_m.resize(n, 0.0);
-    let (min_distance_m, closest_pair) = nearest_m
+    let order = grid.cell_order();
+    by_slot_m.resize(n, 0.0);
+    let (min_distance_m, closest_pair) = by_slot_m
         .par_iter_mut()
-        .enumerate()
+        .zip(order)
         .with_min_len(256)
-        .filter_map(|(i, nearest)| {
+        .filter_map(|(nearest, &i)| {
+            let i = i as usize;
             grid.nearest_neighbour(i).map(|nb| {
                 *nearest = nb.distance_m;
                 (nb.distance_m, (i.min(nb.index), i.max(nb.index)))
@@ -95,10 +101,17 @@ fn search(
         })
         .reduce_with(nearer)
         .expect("a grid with two or more satellites has a nearest neighbour");
-    let collisions = (0..n)
-        .into_par_iter()
+    nearest_m.resize(n, 0.0);
+    nearest_m
+        .par_iter_mut()
+        .enumerate()
+        .with_min_len(4096)
+        .for_each(|(i, nearest)| *nearest = by_slot_m[grid.slot(i)]);
+    let collisions = order
+        .par_iter()
         .with_min_len(256)
-        .map(|i| {
+        .map(|&i| {
+            let i = i as usize;
             let mut count = 0;
             // A partner j can only collide when d < a_i + a_j <= a_i + a_max.
             grid.for_each_within(i, radii_m[i] + a_max, |nb| {
@@ -253,7 +266,10 @@ pub struct SeparationTracker {
     /// Ids of the last answer's closest pair.
     closest: Option<(usize, usize)>,
     grid: NeighbourGrid,
+    /// Each satellite's nearest-neighbour distance at the last search (m), and the same by grid slot
+    /// (the search's scratch).
     nearest_m: Vec<f64>,
+    by_slot_m: Vec<f64>,
     /// Per satellite of the current snapshot: σ d_i − e_i, its lower bound before the swarm-wide terms
     /// (m): the contraction of the motion used times its anchor's nearest distance, less its distance
     /// from where that motion puts it.
@@ -450,7 +466,12 @@ impl SeparationTracker {
         };
         self.grid
             .build_ranked_from(n, |k| positions.position_m(k), cell_m, None)?;
-        let separation = search(&self.grid, radii_m, &mut self.nearest_m)?;
+        let separation = search(
+            &self.grid,
+            radii_m,
+            &mut self.nearest_m,
+            &mut self.by_slot_m,
+        )?;
         let top = positions.id(n - 1) + 1;
         if self.anchors.len() < top {
             self.anchors.resize(top, [0.0, 0.0, 0.0, f64::NAN]);
@@ -587,7 +608,12 @@ impl SeparationTracker {
             match spacing_cell_m(m, |k| [cx[k], cy[k], cz[k]]).filter(|_| m > DIRECT_PAIRS_UP_TO) {
                 Some(cell_m) => {
                     self.grid.build(cx, cy, cz, cell_m)?;
-                    search(&self.grid, &self.candidate_radii, &mut self.nearest_m)?
+                    search(
+                        &self.grid,
+                        &self.candidate_radii,
+                        &mut self.nearest_m,
+                        &mut self.by_slot_m,
+                    )?
                 }
                 None => direct(cx, cy, cz, &self.candidate_radii),
             };
