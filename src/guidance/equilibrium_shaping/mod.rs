@@ -70,7 +70,9 @@ pub use results::{
     EsTimelineEntry, EsWarningResults,
 };
 pub use shaping::{EsSolution, GatherAvoidDock, ShapingError};
-pub use state_machine::{EsState, MachineSettings, Mode, ModeChange, ModeEvent, Observation};
+pub use state_machine::{
+    EsState, MachineSettings, Mode, ModeChange, ModeEvent, ModeTimeline, Observation,
+};
 
 /// Largest node count of the strategies that solve for avoid coefficients (S1, S3, S4): the dense SVD of
 /// the N(N−1)/2 × 3N matrix Aᵀ grows as ~N⁴·⁵ (measured 0.06 s at 64 nodes, 0.4 s at 100, 1.3 s at 128).

@@ -118,7 +118,32 @@ pub struct EsState {
     /// In RETURNING: since when the settling conditions have held \[s\].
     pub settled_since_s: Option<f64>,
     /// Every switch so far, in time order (shared between ticks: cloning the state does not copy it).
-    pub timeline: Arc<Vec<ModeChange>>,
+    pub timeline: ModeTimeline,
+}
+
+/// A satellite's switches in time order, read as a slice of [`ModeChange`]. Cloning shares the entries
+/// (a satellite's state is cloned at every tick). An empty timeline holds no allocation, so cloning it
+/// touches no reference count: the states of a swarm that has not switched yet, all clones of one
+/// default, would otherwise share one count, updated by every thread at every satellite and tick.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModeTimeline(Option<Arc<[ModeChange]>>);
+
+impl ModeTimeline {
+    /// Appends `change` (a new shared copy of the entries with it at the end).
+    fn push(&mut self, change: ModeChange) {
+        let mut entries = Vec::with_capacity(self.len() + 1);
+        entries.extend_from_slice(self);
+        entries.push(change);
+        self.0 = Some(entries.into());
+    }
+}
+
+impl std::ops::Deref for ModeTimeline {
+    type Target = [ModeChange];
+
+    fn deref(&self) -> &[ModeChange] {
+        self.0.as_deref().unwrap_or_default()
+    }
 }
 
 /// What a satellite knows at a tick, for its state machine.
@@ -228,13 +253,6 @@ impl MachineSettings {
     }
 }
 
-fn push(timeline: &mut Arc<Vec<ModeChange>>, change: ModeChange) {
-    let mut entries = Vec::with_capacity(timeline.len() + 1);
-    entries.extend_from_slice(timeline);
-    entries.push(change);
-    *timeline = Arc::new(entries);
-}
-
 /// The state after one tick, from the previous state and what the satellite observes now.
 ///
 /// * NOMINAL or RETURNING, warning in force → WARNED: store t_w, p_T(t_w), v_T, R_s,i = ‖x_i − p_T‖,
@@ -253,13 +271,10 @@ pub fn next_state(
     let mut s = previous.clone();
     s.feedforward_suppressed = false;
     let switch = |s: &mut EsState, to: Mode| {
-        push(
-            &mut s.timeline,
-            ModeChange {
-                time_s: t,
-                event: ModeEvent::Mode { from: s.mode, to },
-            },
-        );
+        s.timeline.push(ModeChange {
+            time_s: t,
+            event: ModeEvent::Mode { from: s.mode, to },
+        });
         s.mode = to;
         s.mode_since_s = t;
         s.settled_since_s = None;
@@ -301,19 +316,54 @@ pub fn next_state(
             .sensed_threat_distance_m
             .is_some_and(|d| d <= settings.physical_sensing_radius_m);
     if sensed != s.threat_sensed {
-        push(
-            &mut s.timeline,
-            ModeChange {
-                time_s: t,
-                event: if sensed {
-                    ModeEvent::ThreatSensed
-                } else {
-                    ModeEvent::ThreatLost
-                },
+        s.timeline.push(ModeChange {
+            time_s: t,
+            event: if sensed {
+                ModeEvent::ThreatSensed
+            } else {
+                ModeEvent::ThreatLost
             },
-        );
+        });
         s.threat_sensed = sensed;
         s.feedforward_suppressed = true;
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn change(time_s: f64, to: Mode) -> ModeChange {
+        ModeChange {
+            time_s,
+            event: ModeEvent::Mode {
+                from: Mode::Nominal,
+                to,
+            },
+        }
+    }
+
+    /// An empty timeline holds no allocation (so a swarm's default states share no reference count);
+    /// pushes append in order, and a clone reads the same entries and is not changed by a later push
+    /// to the original.
+    #[test]
+    fn the_timeline_appends_shares_on_clone_and_starts_without_an_allocation() {
+        let mut timeline = ModeTimeline::default();
+        assert!(timeline.0.is_none());
+        assert!(timeline.is_empty());
+        timeline.push(change(1.0, Mode::Warned));
+        let before = timeline.clone();
+        timeline.push(change(2.5, Mode::Returning));
+        assert_eq!(&*before, &[change(1.0, Mode::Warned)]);
+        assert_eq!(
+            &*timeline,
+            &[change(1.0, Mode::Warned), change(2.5, Mode::Returning)]
+        );
+        let shared = timeline.clone();
+        assert!(matches!(
+            (&shared.0, &timeline.0),
+            (Some(a), Some(b)) if Arc::ptr_eq(a, b)
+        ));
+    }
 }
