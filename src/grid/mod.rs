@@ -17,8 +17,8 @@
 //!
 //! * A fixed-radius query prefilters each row of cells in branch-free batches: the squared distances of
 //!   up to 64 candidates, the slots that pass appended without a branch (most candidates fail,
-//!   unpredictably; module `prefilter`: a portable loop, and an AVX-512 copy chosen at run time that passes
-//!   the same candidates). The copy is chosen once per query, and the whole query (row loop, batches,
+//!   unpredictably; module `prefilter`: a portable loop, and AVX-512 and AVX2 copies chosen at run
+//!   time that pass the same candidates). The copy is chosen once per query, and the whole query (row loop, batches,
 //!   exact test and the caller's visit) is compiled once per copy, inlined into one function, so a row
 //!   costs no call. The passing slots of all rows are buffered, then the exact test and the
 //!   visits run in one loop in slot order. A query keeps only the cells that the box
@@ -58,7 +58,7 @@ use std::ops::Range;
 
 use neighbour_list::{NeighbourList, ReachSeen};
 #[cfg(target_arch = "x86_64")]
-use prefilter::Avx512Batches;
+use prefilter::{Avx2Batches, Avx512Batches};
 use prefilter::{Batches, Candidates, PortableBatches, Prefilter};
 
 use rayon::prelude::*;
@@ -674,14 +674,33 @@ impl NeighbourGrid {
     fn walk(&self, si: usize, reach_m: f64, visit: impl FnMut(Neighbour)) {
         // The copy of the prefilter is chosen once per query, and the whole query is compiled once
         // per copy, with its batches inlined into the row loop.
-        match self.prefilter.avx512() {
+        match (self.prefilter.avx512(), self.prefilter.avx2()) {
             #[cfg(target_arch = "x86_64")]
             #[allow(unsafe_code)]
             // SAFETY: `batches` exists only on a CPU with AVX-512F, AVX-512VL and POPCNT, the
             // features the function enables.
-            Some(batches) => unsafe { self.within_avx512(batches, si, reach_m, visit) },
+            (Some(batches), _) => unsafe { self.within_avx512(batches, si, reach_m, visit) },
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            // SAFETY: `batches` exists only on a CPU with AVX2 and POPCNT, the features the function
+            // enables.
+            (_, Some(batches)) => unsafe { self.within_avx2(batches, si, reach_m, visit) },
             _ => self.within(PortableBatches, si, reach_m, visit),
         }
+    }
+
+    /// [`Self::within`] compiled with AVX2 and POPCNT enabled, for their batches (`batches` proves
+    /// the CPU has them).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,popcnt")]
+    fn within_avx2(
+        &self,
+        batches: Avx2Batches,
+        si: usize,
+        reach_m: f64,
+        visit: impl FnMut(Neighbour),
+    ) {
+        self.within(batches, si, reach_m, visit);
     }
 
     /// [`Self::within`] compiled with AVX-512F, AVX-512VL and POPCNT enabled, for their batches

@@ -1,9 +1,11 @@
 //! The squared-distance prefilter of a fixed-radius grid query: which of a batch of up to
-//! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Two copies that give the same
-//! answers: a portable branch-free loop (one candidate per iteration) and, on x86-64 CPUs with
+//! [`SCAN_BATCH`] candidates lie within the reach, by squared distance. Three copies that give the
+//! same answers: a portable branch-free loop (one candidate per iteration); on x86-64 CPUs with
 //! AVX-512F, AVX-512VL and POPCNT (detected at run time), eight candidates per instruction with
-//! their passing slots compressed into place. Both compute `dx² + dy² + dz²` with the same IEEE
-//! operations in the same order (no fused multiply-add), so they pass exactly the same candidates.
+//! their passing slots compressed into place; and on x86-64 CPUs with AVX2 and POPCNT but not those,
+//! four candidates per instruction, their passing slots moved to the front by a byte shuffle from a
+//! table of the sixteen outcomes. All compute `dx² + dy² + dz²` with the same IEEE operations in the
+//! same order (no fused multiply-add), so they pass exactly the same candidates.
 
 use std::mem::MaybeUninit;
 
@@ -27,6 +29,9 @@ pub(crate) enum Prefilter {
     /// AVX-512F + AVX-512VL, eight candidates at a time (x86-64 only; falls back to the portable loop
     /// on a CPU without them).
     Avx512,
+    /// AVX2, four candidates at a time (x86-64 only; falls back to the portable loop on a CPU without
+    /// it).
+    Avx2,
 }
 
 impl Default for Prefilter {
@@ -34,9 +39,23 @@ impl Default for Prefilter {
     fn default() -> Self {
         if avx512_available() {
             Prefilter::Avx512
+        } else if avx2_available() {
+            Prefilter::Avx2
         } else {
             Prefilter::Portable
         }
+    }
+}
+
+/// Whether this CPU runs the AVX2 copy.
+pub(crate) fn avx2_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("popcnt")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
     }
 }
 
@@ -60,6 +79,12 @@ impl Prefilter {
     #[inline]
     pub(crate) fn avx512(self) -> Option<Avx512Batches> {
         (self == Prefilter::Avx512 && avx512_available()).then_some(Avx512Batches(()))
+    }
+
+    /// The AVX2 copy's batches when this grid runs that copy on a CPU that has it, else `None`.
+    #[inline]
+    pub(crate) fn avx2(self) -> Option<Avx2Batches> {
+        (self == Prefilter::Avx2 && avx2_available()).then_some(Avx2Batches(()))
     }
 }
 
@@ -139,6 +164,38 @@ unsafe impl Batches for Avx512Batches {
     }
 }
 
+/// The AVX2 copy's batches: a value exists only on a CPU with AVX2 and POPCNT (made by
+/// [`Prefilter::avx2`] after the run-time check), which is what makes its batches safe to run.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Avx2Batches(());
+
+// SAFETY: `passing_avx2` stores four slots at each running count for every whole group of four and
+// writes the rest one by one, every entry below the count it returns.
+#[allow(unsafe_code)]
+unsafe impl Batches for Avx2Batches {
+    #[inline(always)]
+    #[allow(unsafe_code)]
+    fn passing(
+        self,
+        candidates: Candidates<'_>,
+        p: [f64; 3],
+        reach2: f64,
+        passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
+    ) -> usize {
+        check_lengths(candidates);
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: `self` exists, so the CPU has AVX2 and POPCNT, the only features the function
+            // enables; the lengths were checked above.
+            unsafe { passing_avx2(candidates, p, reach2, passed) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            passing_portable(candidates, p, reach2, passed)
+        }
+    }
+}
+
 /// Panics unless the three coordinate slices have one length, at most [`SCAN_BATCH`].
 #[inline(always)]
 fn check_lengths(candidates: Candidates<'_>) {
@@ -163,6 +220,112 @@ fn passing_portable(
     let mut count = 0;
     for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
         let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
+        passed[count].write(first_slot + offset as u32);
+        count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
+    }
+    count
+}
+
+/// For each 4-bit outcome of four candidates (bit `l`: candidate `l` passes), the byte shuffle that moves
+/// the passing candidates' 32-bit slots, in order, to the front of a 128-bit register.
+#[cfg(target_arch = "x86_64")]
+const COMPRESS_4: [[u8; 16]; 16] = {
+    let mut table = [[0x80; 16]; 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let mut to = 0;
+        let mut lane = 0;
+        while lane < 4 {
+            if mask & (1 << lane) != 0 {
+                let mut byte = 0;
+                while byte < 4 {
+                    table[mask][4 * to + byte] = (4 * lane + byte) as u8;
+                    byte += 1;
+                }
+                to += 1;
+            }
+            lane += 1;
+        }
+        mask += 1;
+    }
+    table
+};
+
+/// The AVX2 copy: four candidates per step, the passing lanes' slots shuffled to the front of a
+/// 128-bit register and stored at the current count; the candidates after the last whole group of
+/// four by the portable loop.
+///
+/// # Safety
+/// The CPU must have AVX2 and POPCNT; the three coordinate slices must have one length, at most
+/// [`SCAN_BATCH`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,popcnt")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn passing_avx2(
+    candidates: Candidates<'_>,
+    p: [f64; 3],
+    reach2: f64,
+    passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
+) -> usize {
+    use std::arch::x86_64::*;
+    let Candidates {
+        xs,
+        ys,
+        zs,
+        first_slot,
+    } = candidates;
+    let n = xs.len();
+    let (px, py, pz) = (
+        _mm256_set1_pd(p[0]),
+        _mm256_set1_pd(p[1]),
+        _mm256_set1_pd(p[2]),
+    );
+    let r2 = _mm256_set1_pd(reach2);
+    // Slots are below 2^28 (`MAX_POINTS`), so they fit the 32-bit lanes.
+    let mut slots = _mm_add_epi32(
+        _mm_set1_epi32(first_slot as i32),
+        _mm_setr_epi32(0, 1, 2, 3),
+    );
+    let four = _mm_set1_epi32(4);
+    let mut count = 0usize;
+    let mut start = 0usize;
+    while start + 4 <= n {
+        // SAFETY: lanes start..start + 4 are inside the slices (equal lengths, checked by the
+        // caller).
+        let (x, y, z) = unsafe {
+            (
+                _mm256_loadu_pd(xs.as_ptr().add(start)),
+                _mm256_loadu_pd(ys.as_ptr().add(start)),
+                _mm256_loadu_pd(zs.as_ptr().add(start)),
+            )
+        };
+        let (dx, dy, dz) = (
+            _mm256_sub_pd(x, px),
+            _mm256_sub_pd(y, py),
+            _mm256_sub_pd(z, pz),
+        );
+        // (dx² + dy²) + dz², as the portable copy sums.
+        let d2 = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
+            _mm256_mul_pd(dz, dz),
+        );
+        let pass = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d2, r2)) as usize;
+        // SAFETY: the table row is 16 bytes; count <= start and start + 4 <= n <= SCAN_BATCH, so the
+        // four stored u32 fit in `passed`.
+        unsafe {
+            let shuffle = _mm_loadu_si128(COMPRESS_4[pass].as_ptr().cast());
+            _mm_storeu_si128(
+                passed.as_mut_ptr().add(count).cast::<__m128i>(),
+                _mm_shuffle_epi8(slots, shuffle),
+            );
+        }
+        count += pass.count_ones() as usize;
+        slots = _mm_add_epi32(slots, four);
+        start += 4;
+    }
+    for offset in start..n {
+        let (dx, dy, dz) = (xs[offset] - p[0], ys[offset] - p[1], zs[offset] - p[2]);
         passed[count].write(first_slot + offset as u32);
         count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
     }
@@ -255,6 +418,9 @@ pub(super) mod tests {
         if avx512_available() {
             copies.push(Prefilter::Avx512);
         }
+        if avx2_available() {
+            copies.push(Prefilter::Avx2);
+        }
         copies
     }
 
@@ -268,10 +434,10 @@ pub(super) mod tests {
         }
     }
 
-    /// Both copies pass exactly the candidates a plain `<=` test on the squared distance passes, in
+    /// Every copy passes exactly the candidates a plain `<=` test on the squared distance passes, in
     /// ascending order, for every batch length from 0 to SCAN_BATCH and candidates exactly at the reach.
     #[test]
-    fn both_copies_pass_what_the_plain_test_passes() {
+    fn every_copy_passes_what_the_plain_test_passes() {
         let mut uniform = uniform_draws(0x9e37_79b9_7f4a_7c15);
         let p = [1.5, -2.0, 0.25];
         let reach2 = 1.0;
@@ -306,9 +472,10 @@ pub(super) mod tests {
                     zs: &zs,
                     first_slot,
                 };
-                let count = match copy.avx512() {
-                    Some(avx512) => avx512.passing(candidates, p, reach2, &mut passed),
-                    None => PortableBatches.passing(candidates, p, reach2, &mut passed),
+                let count = match (copy.avx512(), copy.avx2()) {
+                    (Some(avx512), _) => avx512.passing(candidates, p, reach2, &mut passed),
+                    (_, Some(avx2)) => avx2.passing(candidates, p, reach2, &mut passed),
+                    _ => PortableBatches.passing(candidates, p, reach2, &mut passed),
                 };
                 // SAFETY: every entry was initialised above.
                 #[allow(unsafe_code)]
