@@ -18,9 +18,9 @@
 //! * A fixed-radius query prefilters each row of cells in branch-free batches: the squared distances of
 //!   up to 64 candidates, the slots that pass appended without a branch (most candidates fail,
 //!   unpredictably; module `prefilter`: a portable loop, and AVX-512 and AVX2 copies chosen at run
-//!   time that pass the same candidates). The copy is chosen once per query, and the whole query (row loop, batches,
-//!   exact test and the caller's visit) is compiled once per copy, inlined into one function, so a row
-//!   costs no call. The passing slots of all rows are buffered, then the exact test and the
+//!   time that pass the same candidates). The copy is chosen once per query, and the whole query (row
+//!   loop, batches, exact test and the caller's visit) is compiled once per copy, inlined into one
+//!   function, so a row costs no call. The passing slots of all rows are buffered, then the exact test and the
 //!   visits run in one loop in slot order. A query keeps only the cells that the box
 //!   `[p − reach, p + reach]` meets (often the satellite's own cell alone for a reach well below the
 //!   cell edge). The answers and their order are those of a plain slot-by-slot

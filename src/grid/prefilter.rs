@@ -211,16 +211,30 @@ fn passing_portable(
     reach2: f64,
     passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
 ) -> usize {
+    passing_portable_from(candidates, p, reach2, passed, 0, 0)
+}
+
+/// The portable loop over the candidates from offset `start` on, appending at `count` (the slots
+/// passed before `start`); returns the new count.
+#[inline(always)]
+fn passing_portable_from(
+    candidates: Candidates<'_>,
+    p: [f64; 3],
+    reach2: f64,
+    passed: &mut [MaybeUninit<u32>; SCAN_BATCH],
+    start: usize,
+    mut count: usize,
+) -> usize {
     let Candidates {
         xs,
         ys,
         zs,
         first_slot,
     } = candidates;
-    let mut count = 0;
-    for (offset, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
+    let (xs, ys, zs) = (&xs[start..], &ys[start..], &zs[start..]);
+    for (k, ((&x, &y), &z)) in xs.iter().zip(ys).zip(zs).enumerate() {
         let (dx, dy, dz) = (x - p[0], y - p[1], z - p[2]);
-        passed[count].write(first_slot + offset as u32);
+        passed[count].write(first_slot + (start + k) as u32);
         count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
     }
     count
@@ -324,12 +338,7 @@ unsafe fn passing_avx2(
         slots = _mm_add_epi32(slots, four);
         start += 4;
     }
-    for offset in start..n {
-        let (dx, dy, dz) = (xs[offset] - p[0], ys[offset] - p[1], zs[offset] - p[2]);
-        passed[count].write(first_slot + offset as u32);
-        count += usize::from(dx * dx + dy * dy + dz * dz <= reach2);
-    }
-    count
+    passing_portable_from(candidates, p, reach2, passed, start, count)
 }
 
 /// The AVX-512 copy: eight candidates per step (the last step masked), the passing lanes' slots
